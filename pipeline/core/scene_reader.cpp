@@ -1,0 +1,323 @@
+#include "pipeline/core/scene_reader.h"
+
+#include <cmath>
+#include <filesystem>
+#include <limits>
+#include <nlohmann/json.hpp>
+#include <set>
+
+#include "pipeline/core/error.h"
+#include "pipeline/core/text_file.h"
+
+namespace patchsim {
+
+namespace {
+
+using Json = nlohmann::json;
+
+std::string typeName(const Json& j) { return j.type_name(); }
+
+// One JSON object being read: every key must be consumed, or finish() reports the unknown one.
+class ObjectReader {
+public:
+    ObjectReader(const Json& json, std::string field, const std::string& file)
+        : json_(json), field_(std::move(field)), file_(file) {
+        if (!json_.is_object()) fail(field_, "expected an object, found " + typeName(json_));
+    }
+
+    [[noreturn]] void fail(const std::string& field, const std::string& message) const {
+        throw InputError(file_, field, message);
+    }
+
+    std::string fieldName(const std::string& key) const {
+        return field_.empty() ? key : field_ + "." + key;
+    }
+
+    const Json* find(const std::string& key) {
+        auto it = json_.find(key);
+        if (it == json_.end()) return nullptr;
+        used_.insert(key);
+        return &*it;
+    }
+
+    double number(const std::string& key, double fallback, double lo, double hi) {
+        const Json* j = find(key);
+        if (!j) return fallback;
+        return checkNumber(*j, fieldName(key), lo, hi);
+    }
+
+    double requiredNumber(const std::string& key, double lo, double hi) {
+        if (!json_.contains(key)) fail(fieldName(key), "missing required number");
+        return number(key, 0, lo, hi);
+    }
+
+    double checkNumber(const Json& j, const std::string& field, double lo, double hi) const {
+        if (!j.is_number()) fail(field, "expected a number, found " + typeName(j));
+        const double v = j.get<double>();
+        if (!std::isfinite(v)) fail(field, "must be a finite number");
+        if (v < lo || v > hi) {
+            fail(field, "value " + formatNumber(v) + " is outside [" + formatNumber(lo) + ", " +
+                            formatNumber(hi) + "]");
+        }
+        return v;
+    }
+
+    std::int64_t integer(const std::string& key, std::int64_t fallback, std::int64_t lo,
+                         std::int64_t hi) {
+        const Json* j = find(key);
+        if (!j) return fallback;
+        if (!j->is_number_integer())
+            fail(fieldName(key), "expected an integer, found " + typeName(*j));
+        const std::int64_t v = j->is_number_unsigned()
+                                   ? static_cast<std::int64_t>(std::min<std::uint64_t>(
+                                         j->get<std::uint64_t>(),
+                                         std::numeric_limits<std::int64_t>::max()))
+                                   : j->get<std::int64_t>();
+        if (v < lo || v > hi) {
+            fail(fieldName(key), "value " + std::to_string(v) + " is outside [" +
+                                     std::to_string(lo) + ", " + std::to_string(hi) + "]");
+        }
+        return v;
+    }
+
+    std::string string(const std::string& key, const std::string& fallback) {
+        const Json* j = find(key);
+        if (!j) return fallback;
+        if (!j->is_string()) fail(fieldName(key), "expected a string, found " + typeName(*j));
+        return j->get<std::string>();
+    }
+
+    std::string requiredString(const std::string& key) {
+        if (!json_.contains(key)) fail(fieldName(key), "missing required string");
+        return string(key, "");
+    }
+
+    Vec3 vec3(const std::string& key, Vec3 fallback, double lo = -1e30, double hi = 1e30) {
+        const Json* j = find(key);
+        if (!j) return fallback;
+        const std::string field = fieldName(key);
+        if (!j->is_array() || j->size() != 3)
+            fail(field, "expected an array of 3 numbers, found " + typeName(*j));
+        Vec3 v;
+        for (int i = 0; i < 3; ++i)
+            v[i] = static_cast<float>(
+                checkNumber((*j)[static_cast<std::size_t>(i)],
+                            field + "[" + std::to_string(i) + "]", lo, hi));
+        return v;
+    }
+
+    std::optional<ObjectReader> object(const std::string& key) {
+        const Json* j = find(key);
+        if (!j) return std::nullopt;
+        return ObjectReader(*j, fieldName(key), file_);
+    }
+
+    void finish() const {
+        for (auto it = json_.begin(); it != json_.end(); ++it) {
+            if (!used_.count(it.key())) fail(fieldName(it.key()), "unknown key");
+        }
+    }
+
+    const std::string& file() const { return file_; }
+
+private:
+    static std::string formatNumber(double v) {
+        char buffer[32];
+        std::snprintf(buffer, sizeof buffer, "%g", v);
+        return buffer;
+    }
+
+    const Json& json_;
+    std::string field_;
+    const std::string& file_;
+    std::set<std::string> used_;
+};
+
+constexpr double kHuge = 1e30;
+
+CameraKey readCameraKey(ObjectReader& r, const CameraKey& fallback) {
+    CameraKey k;
+    k.position = r.vec3("position", fallback.position);
+    k.lookAt = r.vec3("look_at", fallback.lookAt);
+    k.up = r.vec3("up", fallback.up);
+    if (glm::length(k.lookAt - k.position) == 0.0f)
+        r.fail(r.fieldName("look_at"), "must differ from position");
+    if (glm::length(glm::cross(k.lookAt - k.position, k.up)) == 0.0f)
+        r.fail(r.fieldName("up"), "must not be parallel to the view direction");
+    return k;
+}
+
+void readCamera(ObjectReader r, CameraDesc& c) {
+    c.open = readCameraKey(r, c.open);
+    c.close = c.open;
+    c.fovYDegrees = static_cast<float>(r.number("fov_y_degrees", c.fovYDegrees, 1e-3, 179.0));
+    c.nearPlane = static_cast<float>(r.number("near", c.nearPlane, 1e-6, kHuge));
+    c.farPlane = static_cast<float>(r.number("far", c.farPlane, 1e-6, kHuge));
+    if (c.farPlane <= c.nearPlane) r.fail(r.fieldName("far"), "must be greater than near");
+    if (auto close = r.object("close")) {
+        c.close = readCameraKey(*close, c.open);
+        close->finish();
+    }
+    r.finish();
+}
+
+void readLens(ObjectReader r, LensDesc& l) {
+    l.apertureRadius = static_cast<float>(r.number("aperture_radius", l.apertureRadius, 0, kHuge));
+    l.focusDistance = static_cast<float>(r.number("focus_distance", l.focusDistance, 1e-6, kHuge));
+    r.finish();
+}
+
+void readShutter(ObjectReader r, ShutterDesc& s) {
+    s.open = static_cast<float>(r.number("open", s.open, 0, 1));
+    s.close = static_cast<float>(r.number("close", s.close, 0, 1));
+    if (s.close < s.open) r.fail(r.fieldName("close"), "must not be before open");
+    r.finish();
+}
+
+void readFilm(ObjectReader r, FilmDesc& f, const SceneLimits& limits) {
+    f.width = static_cast<int>(r.integer("width", f.width, 1, 16384));
+    f.height = static_cast<int>(r.integer("height", f.height, 1, 16384));
+    f.samplesPerPixel = static_cast<int>(r.integer("spp", f.samplesPerPixel, 1, 4096));
+    f.seed = static_cast<std::uint64_t>(
+        r.integer("seed", static_cast<std::int64_t>(f.seed), 0,
+                  std::numeric_limits<std::int64_t>::max()));
+    r.finish();
+    if (filmBytes(f) > limits.memoryBudgetBytes) {
+        r.fail(r.fieldName("spp"),
+               "film of " + std::to_string(f.width) + "x" + std::to_string(f.height) + " at " +
+                   std::to_string(f.samplesPerPixel) + " spp needs " +
+                   std::to_string(filmBytes(f) >> 20) + " MiB, over the memory budget of " +
+                   std::to_string(limits.memoryBudgetBytes >> 20) + " MiB");
+    }
+}
+
+void readTessellation(ObjectReader r, TessellationDesc& t) {
+    const std::string partitioning = r.string("partitioning", partitioningName(t.partitioning));
+    if (!parsePartitioning(partitioning, t.partitioning)) {
+        r.fail(r.fieldName("partitioning"),
+               "unknown partitioning '" + partitioning +
+                   "' (integer, pow2, fractional_odd, fractional_even)");
+    }
+    const std::string reduction = r.string("inside_reduction", insideReductionName(t.insideReduction));
+    if (!parseInsideReduction(reduction, t.insideReduction))
+        r.fail(r.fieldName("inside_reduction"), "unknown reduction '" + reduction +
+                                                    "' (min, max, average)");
+    // Any finite factor is accepted: the hull shader and tessellator apply D3D11's rules
+    // (<= 0 culls, the rest is clamped and rounded per partitioning).
+    t.factor = static_cast<float>(r.number("factor", t.factor, -kHuge, kHuge));
+    t.targetEdgePixels =
+        static_cast<float>(r.number("target_edge_pixels", t.targetEdgePixels, 0, kHuge));
+    t.maxFactor = static_cast<float>(r.number("max_factor", t.maxFactor, 1, 64));
+    r.finish();
+}
+
+TransformDesc readTransform(ObjectReader r, const TransformDesc& fallback) {
+    TransformDesc t;
+    t.translate = r.vec3("translate", fallback.translate);
+    t.rotateDegrees = r.vec3("rotate_degrees", fallback.rotateDegrees);
+    t.scale = r.vec3("scale", fallback.scale);
+    for (int i = 0; i < 3; ++i)
+        if (t.scale[i] == 0.0f) r.fail(r.fieldName("scale"), "scale must not be zero");
+    r.finish();
+    return t;
+}
+
+SubdivisionScheme schemeFromCageName(const std::string& path) {
+    const std::string name = std::filesystem::path(path).filename().string();
+    if (name.starts_with("loop_")) return SubdivisionScheme::Loop;
+    if (name.starts_with("bilinear_")) return SubdivisionScheme::Bilinear;
+    return SubdivisionScheme::Catmark;
+}
+
+ObjectDesc readObject(ObjectReader r, const std::string& baseDir, std::size_t index) {
+    ObjectDesc o;
+    o.name = r.string("name", "object" + std::to_string(index));
+    const std::string cage = r.requiredString("cage");
+    if (cage.empty()) r.fail(r.fieldName("cage"), "must name an OBJ file");
+    o.cagePath = joinPath(baseDir, cage);
+    const std::string cageClose = r.string("cage_close", "");
+    if (!cageClose.empty()) o.cageClosePath = joinPath(baseDir, cageClose);
+    const std::string scheme = r.string("scheme", schemeName(schemeFromCageName(cage)));
+    if (scheme == "catmark") o.scheme = SubdivisionScheme::Catmark;
+    else if (scheme == "loop") o.scheme = SubdivisionScheme::Loop;
+    else if (scheme == "bilinear") o.scheme = SubdivisionScheme::Bilinear;
+    else r.fail(r.fieldName("scheme"), "unknown scheme '" + scheme + "' (catmark, loop, bilinear)");
+    if (auto open = r.object("open")) o.open = readTransform(*open, o.open);
+    o.close = o.open;
+    if (auto close = r.object("close")) o.close = readTransform(*close, o.open);
+    if (auto material = r.object("material")) {
+        o.material.color = material->vec3("color", o.material.color, 0, kHuge);
+        o.material.opacity = static_cast<float>(material->number("opacity", 1.0, 0, 1));
+        material->finish();
+    }
+    r.finish();
+    return o;
+}
+
+// Line and column (1-based) of a byte offset, for syntax errors.
+std::string lineColumn(std::string_view text, std::size_t byte) {
+    std::size_t line = 1, column = 1;
+    for (std::size_t i = 0; i < std::min(byte, text.size()); ++i) {
+        if (text[i] == '\n') {
+            ++line;
+            column = 1;
+        } else {
+            ++column;
+        }
+    }
+    return "line " + std::to_string(line) + ", column " + std::to_string(column);
+}
+
+}  // namespace
+
+std::uint64_t filmBytes(const FilmDesc& film) {
+    constexpr std::uint64_t kBytesPerSample = 32;
+    return std::uint64_t(film.width) * std::uint64_t(film.height) *
+           std::uint64_t(film.samplesPerPixel) * kBytesPerSample;
+}
+
+SceneDesc parseScene(std::string_view text, const std::string& path, const std::string& baseDir,
+                     const SceneLimits& limits) {
+    Json json;
+    try {
+        json = Json::parse(text.begin(), text.end());
+    } catch (const Json::parse_error& e) {
+        // nlohmann reports the byte just past the offending token.
+        const std::size_t byte = e.byte > 0 ? e.byte - 1 : 0;
+        std::string message = e.what();
+        if (auto pos = message.find("syntax error"); pos != std::string::npos)
+            message = message.substr(pos);
+        throw InputError(path, lineColumn(text, byte), "JSON " + message);
+    }
+    SceneDesc scene;
+    scene.path = path;
+    ObjectReader root(json, "", path);
+    if (auto camera = root.object("camera")) readCamera(*camera, scene.camera);
+    if (auto lens = root.object("lens")) readLens(*lens, scene.lens);
+    if (auto shutter = root.object("shutter")) readShutter(*shutter, scene.shutter);
+    if (auto film = root.object("film")) readFilm(*film, scene.film, limits);
+    if (auto tess = root.object("tessellation")) readTessellation(*tess, scene.tessellation);
+    const Json* objects = root.find("objects");
+    if (!objects) root.fail("objects", "missing required array of objects");
+    if (!objects->is_array()) root.fail("objects", "expected an array, found " + typeName(*objects));
+    if (objects->empty()) root.fail("objects", "the scene has no objects");
+    for (std::size_t i = 0; i < objects->size(); ++i) {
+        scene.objects.push_back(readObject(
+            ObjectReader((*objects)[i], "objects[" + std::to_string(i) + "]", path), baseDir, i));
+    }
+    root.finish();
+    return scene;
+}
+
+SceneDesc readSceneFile(const std::string& path, const SceneLimits& limits) {
+    const std::string text = readTextFile(path);
+    return parseScene(text, path, parentDirectory(path), limits);
+}
+
+SceneDesc defaultScene() {
+    const auto text = builtinAsset("default.json");
+    if (!text) throw InputError("builtin:default.json", "", "built-in scene missing from build");
+    return parseScene(*text, "builtin:default.json", "builtin:");
+}
+
+}  // namespace patchsim

@@ -1,0 +1,65 @@
+#include "pipeline/core/text_file.h"
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "pipeline/core/error.h"
+
+namespace patchsim {
+
+std::string readTextFile(const std::string& path, const std::string& referringFile,
+                         const std::string& field) {
+    if (path.starts_with(kBuiltinPrefix)) {
+        if (auto asset = builtinAsset(std::string_view(path).substr(kBuiltinPrefix.size())))
+            return std::string(*asset);
+        throw InputError(referringFile.empty() ? path : referringFile, field,
+                         "no built-in asset named '" + path + "'");
+    }
+    std::error_code ec;
+    if (std::filesystem::is_directory(path, ec))
+        throw InputError(referringFile.empty() ? path : referringFile, field,
+                         "'" + path + "' is a directory, not a file");
+    std::ifstream in(path, std::ios::binary);
+    if (!in) {
+        throw InputError(referringFile.empty() ? path : referringFile, field,
+                         "cannot open '" + path + "'");
+    }
+    std::ostringstream text;
+    text << in.rdbuf();
+    return text.str();
+}
+
+void writeFileAtomically(const std::string& path,
+                         const std::function<void(std::ostream&)>& write) {
+    namespace fs = std::filesystem;
+    const std::string temporary = path + ".tmp-patchsim";
+    try {
+        {
+            std::ofstream out(temporary, std::ios::binary | std::ios::trunc);
+            if (!out) throw InputError(path, "", "cannot write output file");
+            write(out);
+            out.flush();
+            if (!out) throw InputError(path, "", "error while writing output file");
+        }
+        fs::rename(temporary, path);
+    } catch (...) {
+        std::error_code ec;
+        fs::remove(temporary, ec);
+        throw;
+    }
+}
+
+std::string parentDirectory(const std::string& path) {
+    return std::filesystem::path(path).parent_path().string();
+}
+
+std::string joinPath(const std::string& dir, const std::string& relative) {
+    if (relative.starts_with(kBuiltinPrefix)) return relative;
+    if (dir.starts_with(kBuiltinPrefix)) return dir + relative;
+    const std::filesystem::path rel(relative);
+    if (rel.is_absolute() || dir.empty()) return rel.lexically_normal().string();
+    return (std::filesystem::path(dir) / rel).lexically_normal().string();
+}
+
+}  // namespace patchsim

@@ -1,0 +1,51 @@
+#include "pipeline/driver/stats_report.h"
+
+#include <iomanip>
+#include <map>
+#include <nlohmann/json.hpp>
+
+namespace patchsim {
+
+namespace {
+std::map<std::string, CounterInfo> infoByName() {
+    std::map<std::string, CounterInfo> byName;
+    for (const CounterInfo& info : CounterRegistry::instance().infos()) byName.emplace(info.name, info);
+    return byName;
+}
+}  // namespace
+
+void printCounterTable(std::ostream& out, const CounterValues& values) {
+    const auto infos = infoByName();
+    std::size_t width = 0;
+    for (const auto& [name, value] : values) width = std::max(width, name.size());
+    std::string stage;
+    for (const auto& [name, value] : values) {
+        const std::string thisStage = name.substr(0, name.find('/'));
+        if (thisStage != stage) {
+            stage = thisStage;
+            out << stage << "\n";
+        }
+        const auto it = infos.find(name);
+        out << "  " << std::left << std::setw(int(width) + 2) << name << std::right
+            << std::setw(16) << value << "  " << (it != infos.end() ? it->second.unit : "") << "\n";
+    }
+}
+
+void writeStatsJson(std::ostream& out, const StatsContext& context, const CounterValues& values) {
+    const auto infos = infoByName();
+    nlohmann::ordered_json json;
+    json["schema"] = "patchsim-stats";
+    json["version"] = kStatsSchemaVersion;
+    json["command"] = context.command;
+    json["scene"] = context.scene;
+    for (const auto& [key, value] : context.facts) json["facts"][key] = value;
+    nlohmann::ordered_json counters = nlohmann::ordered_json::object();
+    for (const auto& [name, value] : values) {
+        const auto it = infos.find(name);
+        counters[name] = {{"value", value}, {"unit", it != infos.end() ? it->second.unit : ""}};
+    }
+    json["counters"] = counters;
+    out << json.dump(2) << "\n";
+}
+
+}  // namespace patchsim

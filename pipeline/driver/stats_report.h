@@ -1,0 +1,23 @@
+#pragma once
+// Counter reports: a human table and the stats JSON (schema in docs/COUNTERS.md).
+
+#include <ostream>
+#include <string>
+#include <vector>
+
+#include "pipeline/core/counters.h"
+
+namespace patchsim {
+
+inline constexpr int kStatsSchemaVersion = 1;
+
+struct StatsContext {
+    std::string command;  // "tessellate", "info", ...
+    std::string scene;    // scene path
+    std::vector<std::pair<std::string, std::string>> facts;  // extra key/value lines
+};
+
+void printCounterTable(std::ostream& out, const CounterValues& values);
+void writeStatsJson(std::ostream& out, const StatsContext& context, const CounterValues& values);
+
+}  // namespace patchsim

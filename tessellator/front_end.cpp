@@ -1,0 +1,256 @@
+#include "tessellator/front_end.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "pipeline/core/counters.h"
+#include "pipeline/core/error.h"
+
+namespace patchsim {
+
+PATCHSIM_COUNTER("HS/Patches", "patches", "Patches whose tessellation factors were computed", hsPatches);
+PATCHSIM_COUNTER("HS/Patches culled", "patches", "Patches culled by an edge factor <= 0 or NaN", hsCulled);
+PATCHSIM_COUNTER("HS/Edge factors", "factors", "Edge tessellation factors computed", hsEdgeFactors);
+PATCHSIM_COUNTER("TS/Domain points", "points", "Domain points emitted by the D3D11 tessellator", tsPoints);
+PATCHSIM_COUNTER("TS/Triangles", "triangles", "Triangles emitted by the D3D11 tessellator", tsTriangles);
+PATCHSIM_COUNTER("DS/Evaluations", "points", "Domain points evaluated on the limit surface (one stencil, applied at t=0 and t=1)",
+                 dsEvaluations);
+PATCHSIM_COUNTER("DS/Shared-edge evaluations", "points",
+                 "Domain points on an edge or corner shared with a lower-numbered patch, evaluated on that owner patch",
+                 dsOwnerEvaluations);
+PATCHSIM_COUNTER("DS/Stencil applications", "applications",
+                 "Stencil weight sets applied to a control-point set (position, du, dv at both shutter ends)",
+                 dsApplications);
+
+namespace {
+
+bool integerLike(Partitioning p) { return p == Partitioning::Integer || p == Partitioning::Pow2; }
+
+constexpr std::uint32_t kFixedOne = 0x10000u;
+std::uint32_t toFixed(float x) { return std::uint32_t(std::lround(double(x) * 65536.0)); }
+
+// Which patch edge (or corner) a local domain point lies on. Coordinates are exact multiples of
+// 2^-16, so the comparisons are exact.
+struct BoundaryPlace {
+    int corner = -1;
+    int edge = -1;
+    std::uint32_t s = 0;  // fixed-point parameter along the edge from its start corner
+};
+
+BoundaryPlace locate(PatchDomain domain, float u, float v) {
+    BoundaryPlace b;
+    if (domain == PatchDomain::Quad) {
+        if (u == 0 && v == 0) b.corner = 0;
+        else if (u == 1 && v == 0) b.corner = 1;
+        else if (u == 1 && v == 1) b.corner = 2;
+        else if (u == 0 && v == 1) b.corner = 3;
+        else if (v == 0) b = {-1, 0, toFixed(u)};
+        else if (u == 1) b = {-1, 1, toFixed(v)};
+        else if (v == 1) b = {-1, 2, kFixedOne - toFixed(u)};
+        else if (u == 0) b = {-1, 3, kFixedOne - toFixed(v)};
+        return b;
+    }
+    const std::uint32_t fu = toFixed(u), fv = toFixed(v);
+    if (fu == 0 && fv == 0) b.corner = 0;
+    else if (fu == kFixedOne && fv == 0) b.corner = 1;
+    else if (fu == 0 && fv == kFixedOne) b.corner = 2;
+    else if (fv == 0) b = {-1, 0, fu};
+    else if (fu + fv == kFixedOne) b = {-1, 1, fv};
+    else if (fu == 0) b = {-1, 2, kFixedOne - fv};
+    return b;
+}
+
+Vec3 safeNormal(const Vec3& du, const Vec3& dv) {
+    const Vec3 n = glm::cross(du, dv);
+    const float len = glm::length(n);
+    return len > 0 && std::isfinite(len) ? n / len : Vec3(0);
+}
+
+}  // namespace
+
+FrontEnd::FrontEnd(const SceneDesc& scene)
+    : scene_(scene), camera_(scene.camera, scene.shutter, scene.film.width, scene.film.height) {
+    hull_.partitioning = scene.tessellation.partitioning;
+    hull_.insideReduction = scene.tessellation.insideReduction;
+    patchOffsets_.push_back(0);
+    for (std::size_t i = 0; i < scene.objects.size(); ++i) {
+        const ObjectDesc& desc = scene.objects[i];
+        const std::string field = "objects[" + std::to_string(i) + "]";
+        SceneObject object;
+        object.desc = desc;
+        object.cage = readObjCage(desc.cagePath, scene.path, field + ".cage");
+        std::unique_ptr<Cage> closeCage;
+        if (!desc.cageClosePath.empty()) {
+            closeCage = std::make_unique<Cage>(
+                readObjCage(desc.cageClosePath, scene.path, field + ".cage_close"));
+            if (closeCage->faceSizes != object.cage.faceSizes ||
+                closeCage->faceVertices != object.cage.faceVertices)
+                throw InputError(scene.path, field + ".cage_close",
+                                 "'" + desc.cageClosePath + "' does not have the topology of '" +
+                                     desc.cagePath + "'");
+        }
+        object.mesh = std::make_unique<SubdivisionMesh>(object.cage, desc.scheme, desc.cagePath);
+        object.points = runVertexStage(desc, object.cage, closeCage.get(), scene.shutter);
+        patchOffsets_.push_back(patchOffsets_.back() + object.mesh->patches().size());
+        objects_.push_back(std::move(object));
+    }
+}
+
+bool FrontEnd::geometryMoves() const {
+    return std::any_of(objects_.begin(), objects_.end(),
+                       [](const SceneObject& o) { return o.points.moves(); });
+}
+
+float FrontEnd::adaptiveFactor(const Vec3 a[2], const Vec3 b[2]) const {
+    const TessellationDesc& t = scene_.tessellation;
+    float longest = 0;
+    for (int end = 0; end < 2; ++end) {
+        Vec2 ra, rb;
+        const bool visibleA = camera_.cameraToRaster(camera_.toCamera(a[end], ShutterEnd(end)), ra);
+        const bool visibleB = camera_.cameraToRaster(camera_.toCamera(b[end], ShutterEnd(end)), rb);
+        // An edge reaching behind the near plane has no finite screen length: tessellate fully.
+        if (!visibleA || !visibleB) return t.maxFactor;
+        longest = std::max(longest, glm::length(ra - rb));
+    }
+    const float f = longest / t.targetEdgePixels;
+    return std::isfinite(f) ? std::clamp(f, 1.0f, t.maxFactor) : t.maxFactor;
+}
+
+float FrontEnd::rawEdgeFactor(const SceneObject& object, const EdgeFactorSource& source) const {
+    const TessellationDesc& t = scene_.tessellation;
+    const bool adaptive = t.targetEdgePixels > 0;
+    const SubdivisionMesh& mesh = *object.mesh;
+    const auto& pts = object.points.at;
+    auto cageEdgeFactor = [&](int edge) {
+        float f = t.factor;
+        if (adaptive) {
+            const int v0 = mesh.cageEdgeVertex(edge, 0), v1 = mesh.cageEdgeVertex(edge, 1);
+            const Vec3 a[2] = {pts[0][std::size_t(v0)], pts[1][std::size_t(v0)]};
+            const Vec3 b[2] = {pts[0][std::size_t(v1)], pts[1][std::size_t(v1)]};
+            f = adaptiveFactor(a, b);
+        }
+        // Next to an N-gon the edge is split in two halves of half the factor; an even whole
+        // factor puts the halves' points on the whole edge's points (integer partitioning).
+        if (mesh.cageEdgeNextToSubpatches(edge) && integerLike(t.partitioning))
+            f = 2.0f * std::ceil(f / 2.0f);
+        return f;
+    };
+    switch (source.kind) {
+        case EdgeFactorSource::WholeCageEdge: return cageEdgeFactor(source.cageEdge);
+        case EdgeFactorSource::HalfCageEdge: return cageEdgeFactor(source.cageEdge) / 2.0f;
+        case EdgeFactorSource::Interior: {
+            if (!adaptive) return t.factor / 2.0f;
+            const std::vector<int>& fv = mesh.faceVertices(source.face);
+            const int v0 = mesh.cageEdgeVertex(source.cageEdge, 0);
+            const int v1 = mesh.cageEdgeVertex(source.cageEdge, 1);
+            Vec3 mid[2], centre[2];
+            for (int end = 0; end < 2; ++end) {
+                mid[end] = 0.5f * (pts[end][std::size_t(v0)] + pts[end][std::size_t(v1)]);
+                centre[end] = Vec3(0);
+                for (int v : fv) centre[end] += pts[end][std::size_t(v)];
+                centre[end] /= float(fv.size());
+            }
+            return adaptiveFactor(mid, centre);
+        }
+    }
+    return t.factor;
+}
+
+void FrontEnd::runHullShader(const SceneObject& object, const PatchInfo& patch,
+                             TessellatedPatch& out) const {
+    float patchEdges[4];
+    for (int e = 0; e < patch.cornerCount(); ++e)
+        patchEdges[e] = rawEdgeFactor(object, patch.edgeSources[e]);
+    hsEdgeFactors += patch.cornerCount();
+    ++hsPatches;
+    if (patch.domain == PatchDomain::Quad) {
+        // D3D11 order u=0, v=0, u=1, v=1 is patch edges 3, 0, 1, 2.
+        const float d3d[4] = {patchEdges[3], patchEdges[0], patchEdges[1], patchEdges[2]};
+        const QuadTessFactors f = processQuadFactors(d3d, hull_);
+        std::copy(f.edge, f.edge + 4, out.edgeFactors);
+        std::copy(f.inside, f.inside + 2, out.insideFactors);
+    } else {
+        // D3D11 order u=0, v=0, w=0 is patch edges 2, 0, 1.
+        const float d3d[3] = {patchEdges[2], patchEdges[0], patchEdges[1]};
+        const TriTessFactors f = processTriFactors(d3d, hull_);
+        std::copy(f.edge, f.edge + 3, out.edgeFactors);
+        out.edgeFactors[3] = 0;
+        out.insideFactors[0] = f.inside;
+        out.insideFactors[1] = 0;
+    }
+}
+
+void FrontEnd::tessellate(std::size_t index, TessellatedPatch& out, FrontEndWorkspace& ws,
+                          bool evaluate) const {
+    const auto it = std::upper_bound(patchOffsets_.begin(), patchOffsets_.end(), index);
+    const std::size_t objectIndex = std::size_t(it - patchOffsets_.begin()) - 1;
+    const SceneObject& object = objects_[objectIndex];
+    const int patchIndex = int(index - patchOffsets_[objectIndex]);
+    const PatchInfo& patch = object.mesh->patches()[std::size_t(patchIndex)];
+    out.object = int(objectIndex);
+    out.patch = patchIndex;
+    out.domain = patch.domain;
+    runHullShader(object, patch, out);
+    if (patch.domain == PatchDomain::Quad) {
+        QuadTessFactors f;
+        std::copy(out.edgeFactors, out.edgeFactors + 4, f.edge);
+        std::copy(out.insideFactors, out.insideFactors + 2, f.inside);
+        ws.tessellator.tessellateQuad(f, out.tessellation);
+    } else {
+        TriTessFactors f;
+        std::copy(out.edgeFactors, out.edgeFactors + 3, f.edge);
+        f.inside = out.insideFactors[0];
+        ws.tessellator.tessellateTri(f, out.tessellation);
+    }
+    if (out.culled()) ++hsCulled;
+    tsPoints += std::int64_t(out.tessellation.points.size());
+    tsTriangles += std::int64_t(out.triangleCount());
+    for (int end = 0; end < 2; ++end) {
+        out.position[end].clear();
+        out.normal[end].clear();
+    }
+    out.surfaceUV.clear();
+    if (evaluate && !out.culled()) runDomainShader(object, patchIndex, out, ws);
+}
+
+void FrontEnd::runDomainShader(const SceneObject& object, int patchIndex, TessellatedPatch& out,
+                               FrontEndWorkspace& ws) const {
+    const SubdivisionMesh& mesh = *object.mesh;
+    const PatchInfo& self = mesh.patches()[std::size_t(patchIndex)];
+    const std::size_t n = out.tessellation.points.size();
+    for (int end = 0; end < 2; ++end) {
+        out.position[end].resize(n);
+        out.normal[end].resize(n);
+    }
+    out.surfaceUV.resize(n);
+    std::int64_t ownerEvaluations = 0;
+    for (std::size_t k = 0; k < n; ++k) {
+        const DomainPoint dp = out.tessellation.points[k];
+        float faceUV[2];
+        mesh.faceCoord(self, dp.u, dp.v, faceUV);
+        out.surfaceUV[k] = {faceUV[0], faceUV[1]};
+        // Points on a shared edge or corner are evaluated on the owning patch (watertightness).
+        int owner = patchIndex;
+        float ownerUV[2] = {dp.u, dp.v};
+        const BoundaryPlace place = locate(self.domain, dp.u, dp.v);
+        if (place.corner >= 0) mesh.ownerOfCorner(patchIndex, place.corner, owner, ownerUV);
+        else if (place.edge >= 0) mesh.ownerOfEdgePoint(patchIndex, place.edge, place.s, owner, ownerUV);
+        const PatchInfo& ownerPatch = mesh.patches()[std::size_t(owner)];
+        float evalUV[2];
+        mesh.faceCoord(ownerPatch, ownerUV[0], ownerUV[1], evalUV);
+        if (owner != patchIndex) ++ownerEvaluations;
+        mesh.evaluateStencil(ownerPatch.face, evalUV, ws.stencil);
+        for (int end = 0; end < 2; ++end) {
+            const std::vector<Vec3>& cps = object.points.at[end];
+            out.position[end][k] = mesh.applyStencil(ownerPatch.face, ws.stencil.position, cps);
+            const Vec3 du = mesh.applyStencil(ownerPatch.face, ws.stencil.du, cps);
+            const Vec3 dv = mesh.applyStencil(ownerPatch.face, ws.stencil.dv, cps);
+            out.normal[end][k] = safeNormal(du, dv);
+        }
+    }
+    dsEvaluations += std::int64_t(n);
+    dsOwnerEvaluations += ownerEvaluations;
+    dsApplications += std::int64_t(n) * 6;
+}
+
+}  // namespace patchsim

@@ -1,0 +1,340 @@
+#include "tessellator/subdivision_mesh.h"
+
+#include <opensubdiv/bfr/refinerSurfaceFactory.h>
+#include <opensubdiv/bfr/surface.h>
+#include <opensubdiv/far/error.h>
+#include <opensubdiv/far/topologyDescriptor.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <mutex>
+#include <stdexcept>
+
+#include "pipeline/core/counters.h"
+#include "pipeline/core/error.h"
+
+namespace patchsim {
+
+namespace osd = OpenSubdiv::OPENSUBDIV_VERSION;
+
+PATCHSIM_COUNTER("IA/Patches", "patches", "Tessellation domains made from cage faces (an N-gon is N)",
+                 iaPatches);
+PATCHSIM_COUNTER("IA/Cage faces", "faces", "Faces of the control cages read", iaCageFaces);
+PATCHSIM_COUNTER("IA/Hole faces", "faces", "Cage faces tagged as holes (no patch)", iaHoleFaces);
+
+namespace {
+
+constexpr std::uint32_t kCageEdgeOne = 1u << 17;
+
+// Far reports topology errors through a global callback; collect the first one per thread.
+thread_local std::string farError;
+void onFarError(osd::Far::ErrorType, const char* message) {
+    if (farError.empty()) farError = message;
+}
+
+osd::Sdc::SchemeType toOsd(SubdivisionScheme s) {
+    switch (s) {
+        case SubdivisionScheme::Catmark: return osd::Sdc::SCHEME_CATMARK;
+        case SubdivisionScheme::Loop: return osd::Sdc::SCHEME_LOOP;
+        case SubdivisionScheme::Bilinear: return osd::Sdc::SCHEME_BILINEAR;
+    }
+    return osd::Sdc::SCHEME_CATMARK;
+}
+
+osd::Sdc::Options sdcOptions(const Cage& cage) {
+    osd::Sdc::Options o;
+    switch (cage.boundary) {
+        case BoundaryInterpolation::None:
+            o.SetVtxBoundaryInterpolation(osd::Sdc::Options::VTX_BOUNDARY_NONE);
+            break;
+        case BoundaryInterpolation::EdgeOnly:
+            o.SetVtxBoundaryInterpolation(osd::Sdc::Options::VTX_BOUNDARY_EDGE_ONLY);
+            break;
+        case BoundaryInterpolation::EdgeAndCorner:
+            o.SetVtxBoundaryInterpolation(osd::Sdc::Options::VTX_BOUNDARY_EDGE_AND_CORNER);
+            break;
+    }
+    o.SetCreasingMethod(cage.creaseMethod == CreaseMethod::Chaikin
+                            ? osd::Sdc::Options::CREASE_CHAIKIN
+                            : osd::Sdc::Options::CREASE_UNIFORM);
+    o.SetTriangleSubdivision(cage.smoothTriangles ? osd::Sdc::Options::TRI_SUB_SMOOTH
+                                                  : osd::Sdc::Options::TRI_SUB_CATMARK);
+    return o;
+}
+
+}  // namespace
+
+struct SubdivisionMesh::Impl {
+    std::unique_ptr<osd::Far::TopologyRefiner> refiner;
+    std::unique_ptr<osd::Bfr::RefinerSurfaceFactory<>> factory;
+    std::vector<osd::Bfr::Surface<float>> surfaces;  // one per face; invalid for holes
+};
+
+SubdivisionMesh::SubdivisionMesh(const Cage& cage, SubdivisionScheme scheme,
+                                 const std::string& path)
+    : scheme_(scheme), impl_(std::make_unique<Impl>()) {
+    const int regular = scheme == SubdivisionScheme::Loop ? 3 : 4;
+    if (scheme == SubdivisionScheme::Loop) {
+        for (int f = 0; f < cage.faceCount(); ++f) {
+            if (cage.faceSizes[std::size_t(f)] != 3)
+                throw InputError(path, "f", "face " + std::to_string(f) + " has " +
+                                                std::to_string(cage.faceSizes[std::size_t(f)]) +
+                                                " sides; the Loop scheme needs triangles");
+        }
+    }
+    std::vector<int> creasePairs;
+    std::vector<float> creaseWeights;
+    for (const CageCrease& c : cage.creases) {
+        creasePairs.insert(creasePairs.end(), {c.v0, c.v1});
+        creaseWeights.push_back(c.sharpness);
+    }
+    std::vector<int> cornerVertices;
+    std::vector<float> cornerWeights;
+    for (const CageCorner& c : cage.corners) {
+        cornerVertices.push_back(c.vertex);
+        cornerWeights.push_back(c.sharpness);
+    }
+    osd::Far::TopologyDescriptor desc;
+    desc.numVertices = cage.vertexCount();
+    desc.numFaces = cage.faceCount();
+    desc.numVertsPerFace = cage.faceSizes.data();
+    desc.vertIndicesPerFace = cage.faceVertices.data();
+    desc.numCreases = int(creaseWeights.size());
+    desc.creaseVertexIndexPairs = creasePairs.data();
+    desc.creaseWeights = creaseWeights.data();
+    desc.numCorners = int(cornerWeights.size());
+    desc.cornerVertexIndices = cornerVertices.data();
+    desc.cornerWeights = cornerWeights.data();
+    desc.numHoles = int(cage.holes.size());
+    desc.holeIndices = cage.holes.data();
+
+    {
+        static std::mutex farMutex;  // the error callback is process-wide
+        std::lock_guard lock(farMutex);
+        farError.clear();
+        osd::Far::SetErrorCallback(onFarError);
+        using Factory = osd::Far::TopologyRefinerFactory<osd::Far::TopologyDescriptor>;
+        impl_->refiner.reset(Factory::Create(
+            desc, Factory::Options(toOsd(scheme), sdcOptions(cage))));
+        osd::Far::SetErrorCallback(nullptr);
+        if (!impl_->refiner)
+            throw InputError(path, "f", "OpenSubdiv rejected the topology: " +
+                                            (farError.empty() ? "unknown error" : farError));
+    }
+    const osd::Far::TopologyLevel& level = impl_->refiner->GetLevel(0);
+    edgeVertices_.resize(std::size_t(2 * level.GetNumEdges()));
+    for (int e = 0; e < level.GetNumEdges(); ++e) {
+        auto v = level.GetEdgeVertices(e);
+        edgeVertices_[std::size_t(2 * e)] = v[0];
+        edgeVertices_[std::size_t(2 * e + 1)] = v[1];
+    }
+    edgeNextToSubpatches_.assign(std::size_t(level.GetNumEdges()), false);
+    faceVertices_.resize(std::size_t(level.GetNumFaces()));
+    faceEdges_.resize(std::size_t(level.GetNumFaces()));
+    for (int f = 0; f < level.GetNumFaces(); ++f) {
+        auto fv = level.GetFaceVertices(f);
+        auto fe = level.GetFaceEdges(f);
+        faceVertices_[std::size_t(f)].assign(fv.begin(), fv.end());
+        faceEdges_[std::size_t(f)].assign(fe.begin(), fe.end());
+        if (fv.size() != regular)
+            for (int e : fe) edgeNextToSubpatches_[std::size_t(e)] = true;
+    }
+
+    impl_->factory = std::make_unique<osd::Bfr::RefinerSurfaceFactory<>>(*impl_->refiner);
+    impl_->surfaces.resize(std::size_t(level.GetNumFaces()));
+    for (int f = 0; f < level.GetNumFaces(); ++f)
+        impl_->factory->InitVertexSurface(f, &impl_->surfaces[std::size_t(f)]);
+    iaCageFaces += level.GetNumFaces();
+    buildPatches();
+    buildOwners();
+}
+
+SubdivisionMesh::~SubdivisionMesh() = default;
+
+void SubdivisionMesh::buildPatches() {
+    const int regular = scheme_ == SubdivisionScheme::Loop ? 3 : 4;
+    for (std::size_t f = 0; f < faceVertices_.size(); ++f) {
+        if (!impl_->surfaces[f].IsValid()) {  // hole, or no limit surface
+            ++iaHoleFaces;
+            continue;
+        }
+        const std::vector<int>& verts = faceVertices_[f];
+        const std::vector<int>& edges = faceEdges_[f];
+        const int n = int(verts.size());
+        if (n == regular) {
+            PatchInfo p;
+            p.face = int(f);
+            p.domain = n == 3 ? PatchDomain::Triangle : PatchDomain::Quad;
+            for (int i = 0; i < n; ++i) {
+                p.corners[i] = PointKey::make(PointKey::Vertex, verts[std::size_t(i)]);
+                p.edgeSources[i] = {EdgeFactorSource::WholeCageEdge, edges[std::size_t(i)], -1};
+            }
+            patches_.push_back(p);
+            continue;
+        }
+        for (int i = 0; i < n; ++i) {
+            const int trailing = (i + n - 1) % n;
+            PatchInfo p;
+            p.face = int(f);
+            p.subface = i;
+            p.domain = PatchDomain::Quad;
+            p.corners[0] = PointKey::make(PointKey::Vertex, verts[std::size_t(i)]);
+            p.corners[1] = PointKey::make(PointKey::EdgeMidpoint, edges[std::size_t(i)]);
+            p.corners[2] = PointKey::make(PointKey::FaceCentre, int(f));
+            p.corners[3] = PointKey::make(PointKey::EdgeMidpoint, edges[std::size_t(trailing)]);
+            p.edgeSources[0] = {EdgeFactorSource::HalfCageEdge, edges[std::size_t(i)], -1};
+            p.edgeSources[1] = {EdgeFactorSource::Interior, edges[std::size_t(i)], int(f)};
+            p.edgeSources[2] = {EdgeFactorSource::Interior, edges[std::size_t(trailing)], int(f)};
+            p.edgeSources[3] = {EdgeFactorSource::HalfCageEdge, edges[std::size_t(trailing)], -1};
+            patches_.push_back(p);
+        }
+    }
+    iaPatches += std::int64_t(patches_.size());
+}
+
+bool SubdivisionMesh::cageEdgeSpan(int patch, int edge, CageEdgeSpan& span) const {
+    const PatchInfo& p = patches_[std::size_t(patch)];
+    const EdgeFactorSource& source = p.edgeSources[edge];
+    if (source.kind == EdgeFactorSource::Interior) return false;
+    const PointKey a = p.corners[edge];
+    const int lo = std::min(cageEdgeVertex(source.cageEdge, 0), cageEdgeVertex(source.cageEdge, 1));
+    span.patch = patch;
+    span.edge = edge;
+    if (source.kind == EdgeFactorSource::WholeCageEdge) {
+        span.start = 0;
+        span.length = kCageEdgeOne;
+        span.sameDirection = a.index() == lo;
+        return true;
+    }
+    // Half of a cage edge: from (or to) the vertex end at `vertex`.
+    const PointKey b = p.corners[(edge + 1) % p.cornerCount()];
+    const int vertex = a.kind() == PointKey::Vertex ? a.index() : b.index();
+    const bool fromLow = vertex == lo;
+    span.start = fromLow ? 0 : kCageEdgeOne / 2;
+    span.length = kCageEdgeOne / 2;
+    // Canonical direction runs low -> high: in the low half from the vertex, in the high half
+    // from the midpoint.
+    span.sameDirection = fromLow ? a.kind() == PointKey::Vertex : a.kind() == PointKey::EdgeMidpoint;
+    return true;
+}
+
+void SubdivisionMesh::buildOwners() {
+    cageEdgeSpans_.assign(std::size_t(cageEdgeCount()), {});
+    for (int pi = 0; pi < int(patches_.size()); ++pi) {
+        const PatchInfo& p = patches_[std::size_t(pi)];
+        const int n = p.cornerCount();
+        for (int c = 0; c < n; ++c) {
+            pointOwners_.emplace(p.corners[c].value, PointOwner{pi, c});
+            CageEdgeSpan span;
+            if (cageEdgeSpan(pi, c, span)) {
+                cageEdgeSpans_[std::size_t(p.edgeSources[c].cageEdge)].push_back(span);
+                continue;
+            }
+            const PointKey a = p.corners[c], b = p.corners[(c + 1) % n];
+            const auto key = std::minmax(a.value, b.value);
+            edgeOwners_.emplace(std::make_pair(key.first, key.second),
+                                EdgeOwner{pi, c, a.value <= b.value});
+        }
+    }
+}
+
+void patchCorner(PatchDomain domain, int corner, float uv[2]) {
+    static constexpr float kQuad[4][2] = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
+    static constexpr float kTri[3][2] = {{0, 0}, {1, 0}, {0, 1}};
+    const float* c = domain == PatchDomain::Quad ? kQuad[corner] : kTri[corner];
+    uv[0] = c[0];
+    uv[1] = c[1];
+}
+
+void patchEdgePoint(PatchDomain domain, int edge, float s, float uv[2]) {
+    float a[2], b[2];
+    const int n = domain == PatchDomain::Quad ? 4 : 3;
+    patchCorner(domain, edge, a);
+    patchCorner(domain, (edge + 1) % n, b);
+    // Exact for s a multiple of 2^-16: one of the two terms per coordinate is 0 or 1.
+    for (int k = 0; k < 2; ++k) {
+        if (a[k] == b[k])
+            uv[k] = a[k];
+        else
+            uv[k] = a[k] < b[k] ? s : 1.0f - s;
+    }
+}
+
+void SubdivisionMesh::faceCoord(const PatchInfo& patch, float u, float v, float faceUV[2]) const {
+    if (patch.subface < 0) {
+        faceUV[0] = u;
+        faceUV[1] = v;
+        return;
+    }
+    const float sub[2] = {u, v};
+    impl_->surfaces[std::size_t(patch.face)].GetParameterization().ConvertNormalizedSubFaceToCoord(
+        patch.subface, sub, faceUV);
+}
+
+void SubdivisionMesh::evaluateStencil(int face, const float faceUV[2], Stencil& out) const {
+    const osd::Bfr::Surface<float>& surface = impl_->surfaces[std::size_t(face)];
+    const std::size_t n = std::size_t(surface.GetNumControlPoints());
+    out.position.resize(n);
+    out.du.resize(n);
+    out.dv.resize(n);
+    out.controlPoints.resize(n);
+    surface.GetControlPointIndices(out.controlPoints.data());
+    surface.EvaluateStencil(faceUV, out.position.data(), out.du.data(), out.dv.data());
+}
+
+Vec3 SubdivisionMesh::applyStencil(int face, const std::vector<float>& weights,
+                                   const std::vector<Vec3>& points) const {
+    static_assert(sizeof(Vec3) == 3 * sizeof(float));
+    Vec3 result;
+    impl_->surfaces[std::size_t(face)].ApplyStencilFromMesh(
+        weights.data(), &points.data()->x, osd::Bfr::Surface<float>::PointDescriptor(3), &result.x);
+    return result;
+}
+
+void SubdivisionMesh::ownerOnCageEdge(int cageEdge, std::uint32_t w, int& ownerPatch,
+                                      float uv[2]) const {
+    for (const CageEdgeSpan& span : cageEdgeSpans_[std::size_t(cageEdge)]) {
+        if (w < span.start || w > span.start + span.length) continue;
+        // Exact in float: multiples of 2^-17 within [0, 1].
+        const float along = float(w - span.start) / float(span.length);
+        ownerPatch = span.patch;
+        const PatchInfo& o = patches_[std::size_t(span.patch)];
+        patchEdgePoint(o.domain, span.edge, span.sameDirection ? along : 1.0f - along, uv);
+        return;
+    }
+    throw std::logic_error("cage edge point without an owning patch");
+}
+
+void SubdivisionMesh::ownerOfEdgePoint(int patch, int edge, std::uint32_t s, int& ownerPatch,
+                                       float uv[2]) const {
+    CageEdgeSpan span;
+    if (cageEdgeSpan(patch, edge, span)) {
+        const std::uint32_t canonical = span.sameDirection ? s : 0x10000u - s;
+        const auto w = std::uint32_t(span.start + std::uint64_t(canonical) * span.length / 0x10000u);
+        ownerOnCageEdge(patches_[std::size_t(patch)].edgeSources[edge].cageEdge, w, ownerPatch, uv);
+        return;
+    }
+    const PatchInfo& p = patches_[std::size_t(patch)];
+    const PointKey a = p.corners[edge], b = p.corners[(edge + 1) % p.cornerCount()];
+    const auto key = std::minmax(a.value, b.value);
+    const EdgeOwner& owner = edgeOwners_.at({key.first, key.second});
+    const bool sameAsCanonical = a.value <= b.value;
+    const std::uint32_t canonical = sameAsCanonical ? s : 0x10000u - s;
+    const std::uint32_t ownerS = owner.sameDirection ? canonical : 0x10000u - canonical;
+    ownerPatch = owner.patch;
+    const PatchInfo& o = patches_[std::size_t(owner.patch)];
+    patchEdgePoint(o.domain, owner.edge, float(ownerS) / 65536.0f, uv);
+}
+
+void SubdivisionMesh::ownerOfCorner(int patch, int corner, int& ownerPatch, float uv[2]) const {
+    const PointKey key = patches_[std::size_t(patch)].corners[corner];
+    if (key.kind() == PointKey::EdgeMidpoint) {
+        ownerOnCageEdge(key.index(), kCageEdgeOne / 2, ownerPatch, uv);
+        return;
+    }
+    const PointOwner& owner = pointOwners_.at(key.value);
+    ownerPatch = owner.patch;
+    patchCorner(patches_[std::size_t(owner.patch)].domain, owner.corner, uv);
+}
+
+}  // namespace patchsim

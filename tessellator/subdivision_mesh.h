@@ -1,0 +1,155 @@
+#pragma once
+// The input assembler's view of a control cage: OpenSubdiv topology, limit surfaces per face,
+// and the list of patches the rest of the pipeline streams.
+//
+// Representation
+// --------------
+// Topology is a Far::TopologyRefiner built from the cage (Far::TopologyDescriptor), with creases,
+// corners, holes and boundary interpolation from the OBJ tags. One Bfr::Surface<float> per base
+// face (made with Bfr::RefinerSurfaceFactory when the mesh is built, so evaluation afterwards is
+// const and thread-safe) gives the limit stencils.
+//
+// A patch is one tessellation domain. A face of the scheme's regular size (4 for Catmull-Clark and
+// bilinear, 3 for Loop) is one patch. Any other Catmull-Clark face of N sides is N quad sub-patches,
+// as Bfr::Parameterization divides it: sub-patch i has its (0,0) corner at the face's vertex i,
+// (1,0) at the midpoint of edge i, (1,1) at the face centre and (0,1) at the midpoint of edge i-1.
+//
+// To make shared edges watertight, a point that several patches share is evaluated once, on its
+// "owner" (the lowest-numbered patch that has it), at the owner's coordinates, so every patch gets
+// the same bits. Points on a cage edge are named by the edge and their parameter along it (from the
+// lower-numbered vertex, in units of 2^-17, so the halves an N-gon's sub-patches see are exact);
+// other corners (cage vertices, face centres) by a PointKey; interior sub-patch edges by their two
+// corner keys.
+//
+// Patch edges also carry where their tessellation factor comes from: a whole cage edge, half a
+// cage edge (the sub-patches of an N-gon; factor halved), or an interior sub-patch edge.
+
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <unordered_map>
+#include <vector>
+
+#include "pipeline/core/obj_reader.h"
+#include "pipeline/core/scene.h"
+
+namespace patchsim {
+
+enum class PatchDomain : std::uint8_t { Quad, Triangle };
+
+struct PointKey {
+    enum Kind : std::uint8_t { Vertex, EdgeMidpoint, FaceCentre };
+    std::uint64_t value = 0;  // kind in the top bits, index below
+
+    static PointKey make(Kind kind, int index) {
+        return {(std::uint64_t(kind) << 32) | std::uint32_t(index)};
+    }
+    Kind kind() const { return Kind(value >> 32); }
+    int index() const { return int(value & 0xffffffffu); }
+    bool operator==(const PointKey&) const = default;
+    bool operator<(const PointKey& o) const { return value < o.value; }
+};
+
+// How a patch edge gets its tessellation factor.
+struct EdgeFactorSource {
+    enum Kind : std::uint8_t { WholeCageEdge, HalfCageEdge, Interior };
+    Kind kind = WholeCageEdge;
+    int cageEdge = -1;  // WholeCageEdge, HalfCageEdge
+    int face = -1;      // Interior: the N-gon (edge from a cage-edge midpoint to its centre)
+};
+
+struct PatchInfo {
+    int face = -1;
+    int subface = -1;  // -1 when the face is the patch
+    PatchDomain domain = PatchDomain::Quad;
+    int cornerCount() const { return domain == PatchDomain::Quad ? 4 : 3; }
+    PointKey corners[4];
+    EdgeFactorSource edgeSources[4];  // patch edge i runs from corner i to corner i+1
+};
+
+class SubdivisionMesh {
+public:
+    // Throws InputError (naming `path`) when OpenSubdiv rejects the topology or the scheme
+    // does not fit the faces (Loop needs triangles).
+    SubdivisionMesh(const Cage& cage, SubdivisionScheme scheme, const std::string& path);
+    ~SubdivisionMesh();
+    SubdivisionMesh(const SubdivisionMesh&) = delete;
+    SubdivisionMesh& operator=(const SubdivisionMesh&) = delete;
+
+    const std::vector<PatchInfo>& patches() const { return patches_; }
+    int cageEdgeCount() const { return static_cast<int>(edgeVertices_.size() / 2); }
+    int cageEdgeVertex(int edge, int end) const { return edgeVertices_[std::size_t(2 * edge + end)]; }
+    // True when the cage edge borders a face that is split into sub-patches.
+    bool cageEdgeNextToSubpatches(int edge) const { return edgeNextToSubpatches_[std::size_t(edge)]; }
+    const std::vector<int>& faceVertices(int face) const { return faceVertices_[std::size_t(face)]; }
+
+    // Face-level (u,v) of the Bfr parameterization for a patch-local domain point.
+    void faceCoord(const PatchInfo& patch, float u, float v, float faceUV[2]) const;
+
+    struct Stencil {
+        std::vector<float> position, du, dv;  // weights per surface control point
+        std::vector<int> controlPoints;       // mesh vertex of each weight
+    };
+    // Limit stencil of a face at face-level (u,v); reuses the buffers in `out`.
+    void evaluateStencil(int face, const float faceUV[2], Stencil& out) const;
+    // Applies one weight set of a stencil to a control-point set (Bfr ApplyStencilFromMesh).
+    Vec3 applyStencil(int face, const std::vector<float>& weights, const std::vector<Vec3>& points) const;
+
+    // The owner of a point on patch `patch`'s local edge `edge` at local parameter `s` (16.16
+    // fixed point, from the edge's start corner): patch index and that patch's local (u,v).
+    void ownerOfEdgePoint(int patch, int edge, std::uint32_t s, int& ownerPatch, float uv[2]) const;
+    void ownerOfCorner(int patch, int corner, int& ownerPatch, float uv[2]) const;
+
+    SubdivisionScheme scheme() const { return scheme_; }
+
+private:
+    struct Impl;
+    void buildPatches();
+    void buildOwners();
+
+    SubdivisionScheme scheme_;
+    std::unique_ptr<Impl> impl_;
+    std::vector<PatchInfo> patches_;
+    std::vector<int> edgeVertices_;
+    std::vector<bool> edgeNextToSubpatches_;
+    std::vector<std::vector<int>> faceVertices_;
+    std::vector<std::vector<int>> faceEdges_;
+
+    // A patch edge that lies on a cage edge covers [start, start + length] of the cage edge's
+    // canonical parameter (from its lower-numbered vertex), in units of 2^-17.
+    struct CageEdgeSpan {
+        int patch;
+        int edge;
+        std::uint32_t start;
+        std::uint32_t length;
+        bool sameDirection;  // the patch edge runs in the canonical direction
+    };
+    bool cageEdgeSpan(int patch, int edge, CageEdgeSpan& span) const;
+    struct EdgeOwner {
+        int patch;
+        int edge;
+        bool sameDirection;  // the owner's edge runs in the same corner order
+    };
+    struct PointOwner {
+        int patch;
+        int corner;
+    };
+    struct KeyPairHash {
+        std::size_t operator()(const std::pair<std::uint64_t, std::uint64_t>& k) const {
+            return std::hash<std::uint64_t>()(k.first * 0x9e3779b97f4a7c15ull ^ k.second);
+        }
+    };
+    void ownerOnCageEdge(int cageEdge, std::uint32_t w, int& ownerPatch, float uv[2]) const;
+    // Patch edges on each cage edge, by increasing patch index.
+    std::vector<std::vector<CageEdgeSpan>> cageEdgeSpans_;
+    // Interior sub-patch edges (between sub-patches of one N-gon), keyed by their corner keys.
+    std::unordered_map<std::pair<std::uint64_t, std::uint64_t>, EdgeOwner, KeyPairHash> edgeOwners_;
+    std::unordered_map<std::uint64_t, PointOwner> pointOwners_;
+};
+
+// Local (u,v) of the point at parameter s (in [0,1]) along a patch's local edge.
+void patchEdgePoint(PatchDomain domain, int edge, float s, float uv[2]);
+// Local (u,v) of a patch corner.
+void patchCorner(PatchDomain domain, int corner, float uv[2]);
+
+}  // namespace patchsim
