@@ -130,9 +130,9 @@ float FrontEnd::rawEdgeFactor(const SceneObject& object, const EdgeFactorSource&
             f = adaptiveFactor(a, b);
         }
         // Next to an N-gon the edge is split in two halves of half the factor; an even whole
-        // factor puts the halves' points on the whole edge's points (integer partitioning).
+        // factor (at most 64) puts the halves' points on the whole edge's points.
         if (mesh.cageEdgeNextToSubpatches(edge) && integerLike(t.partitioning))
-            f = 2.0f * std::ceil(f / 2.0f);
+            f = 2.0f * std::ceil(std::min(f, 64.0f) / 2.0f);
         return f;
     };
     switch (source.kind) {
@@ -224,6 +224,17 @@ void FrontEnd::runDomainShader(const SceneObject& object, int patchIndex, Tessel
     }
     out.surfaceUV.resize(n);
     std::int64_t ownerEvaluations = 0;
+    // Segments per patch edge under integer partitioning (patch edge e is D3D11 edge
+    // kQuadD3DEdge[e] or kTriD3DEdge[e]); 0 for fractional partitioning.
+    int segments[4] = {0, 0, 0, 0};
+    if (integerLike(scene_.tessellation.partitioning)) {
+        static constexpr int kQuadD3DEdge[4] = {1, 2, 3, 0};
+        static constexpr int kTriD3DEdge[3] = {1, 2, 0};
+        for (int e = 0; e < self.cornerCount(); ++e) {
+            const float f = out.edgeFactors[self.domain == PatchDomain::Quad ? kQuadD3DEdge[e] : kTriD3DEdge[e]];
+            segments[e] = int(std::ceil(std::clamp(f, 1.0f, 64.0f)));
+        }
+    }
     for (std::size_t k = 0; k < n; ++k) {
         const DomainPoint dp = out.tessellation.points[k];
         float faceUV[2];
@@ -233,8 +244,10 @@ void FrontEnd::runDomainShader(const SceneObject& object, int patchIndex, Tessel
         int owner = patchIndex;
         float ownerUV[2] = {dp.u, dp.v};
         const BoundaryPlace place = locate(self.domain, dp.u, dp.v);
-        if (place.corner >= 0) mesh.ownerOfCorner(patchIndex, place.corner, owner, ownerUV);
-        else if (place.edge >= 0) mesh.ownerOfEdgePoint(patchIndex, place.edge, place.s, owner, ownerUV);
+        if (place.corner >= 0)
+            mesh.ownerOfCorner(patchIndex, place.corner, segments, owner, ownerUV);
+        else if (place.edge >= 0)
+            mesh.ownerOfEdgePoint(patchIndex, place.edge, place.s, segments, owner, ownerUV);
         const PatchInfo& ownerPatch = mesh.patches()[std::size_t(owner)];
         float evalUV[2];
         mesh.faceCoord(ownerPatch, ownerUV[0], ownerUV[1], evalUV);

@@ -291,27 +291,44 @@ Vec3 SubdivisionMesh::applyStencil(int face, const std::vector<float>& weights,
     return result;
 }
 
-void SubdivisionMesh::ownerOnCageEdge(int cageEdge, std::uint32_t w, int& ownerPatch,
-                                      float uv[2]) const {
+void SubdivisionMesh::ownerOnCageEdge(int cageEdge, std::uint32_t k, std::uint32_t n,
+                                      int& ownerPatch, float uv[2]) const {
+    // Spans are in units of 2^-17 of the edge; compare k / n against them without rounding.
+    const std::uint64_t position = std::uint64_t(k) * kCageEdgeOne;  // / n
     for (const CageEdgeSpan& span : cageEdgeSpans_[std::size_t(cageEdge)]) {
-        if (w < span.start || w > span.start + span.length) continue;
-        // Exact in float: multiples of 2^-17 within [0, 1].
-        const float along = float(w - span.start) / float(span.length);
+        if (position < std::uint64_t(span.start) * n ||
+            position > std::uint64_t(span.start + span.length) * n)
+            continue;
+        // (k/n - start) / length, evaluated the same way whichever patch asks.
+        const std::uint64_t numerator = position - std::uint64_t(span.start) * n;
+        const double along = double(numerator) / (double(n) * double(span.length));
         ownerPatch = span.patch;
         const PatchInfo& o = patches_[std::size_t(span.patch)];
-        patchEdgePoint(o.domain, span.edge, span.sameDirection ? along : 1.0f - along, uv);
+        const float a = float(along);
+        patchEdgePoint(o.domain, span.edge, span.sameDirection ? a : 1.0f - a, uv);
         return;
     }
     throw std::logic_error("cage edge point without an owning patch");
 }
 
-void SubdivisionMesh::ownerOfEdgePoint(int patch, int edge, std::uint32_t s, int& ownerPatch,
-                                       float uv[2]) const {
+void SubdivisionMesh::ownerOfEdgePoint(int patch, int edge, std::uint32_t s, const int segments[4],
+                                       int& ownerPatch, float uv[2]) const {
     CageEdgeSpan span;
     if (cageEdgeSpan(patch, edge, span)) {
+        const int cageEdge = patches_[std::size_t(patch)].edgeSources[edge].cageEdge;
         const std::uint32_t canonical = span.sameDirection ? s : 0x10000u - s;
+        if (segments[edge] > 0) {
+            // Integer partitioning: the point is the j-th of the edge's segments; name it by its
+            // index on the whole cage edge, so half-edges and whole edges agree exactly.
+            const std::uint32_t perSpan = std::uint32_t(segments[edge]);
+            const std::uint32_t whole = span.length == kCageEdgeOne ? perSpan : 2 * perSpan;
+            const auto j = std::uint32_t((std::uint64_t(canonical) * perSpan + 0x8000u) >> 16);
+            const std::uint32_t k = (span.start == 0 ? 0 : whole / 2) + j;
+            ownerOnCageEdge(cageEdge, k, whole, ownerPatch, uv);
+            return;
+        }
         const auto w = std::uint32_t(span.start + std::uint64_t(canonical) * span.length / 0x10000u);
-        ownerOnCageEdge(patches_[std::size_t(patch)].edgeSources[edge].cageEdge, w, ownerPatch, uv);
+        ownerOnCageEdge(cageEdge, w, kCageEdgeOne, ownerPatch, uv);
         return;
     }
     const PatchInfo& p = patches_[std::size_t(patch)];
@@ -326,10 +343,18 @@ void SubdivisionMesh::ownerOfEdgePoint(int patch, int edge, std::uint32_t s, int
     patchEdgePoint(o.domain, owner.edge, float(ownerS) / 65536.0f, uv);
 }
 
-void SubdivisionMesh::ownerOfCorner(int patch, int corner, int& ownerPatch, float uv[2]) const {
-    const PointKey key = patches_[std::size_t(patch)].corners[corner];
+void SubdivisionMesh::ownerOfCorner(int patch, int corner, const int segments[4], int& ownerPatch,
+                                    float uv[2]) const {
+    const PatchInfo& p = patches_[std::size_t(patch)];
+    const PointKey key = p.corners[corner];
     if (key.kind() == PointKey::EdgeMidpoint) {
-        ownerOnCageEdge(key.index(), kCageEdgeOne / 2, ownerPatch, uv);
+        // A cage-edge midpoint is a point on that cage edge: the end of the half-edge before this
+        // corner or the start of the one after it.
+        const int before = (corner + p.cornerCount() - 1) % p.cornerCount();
+        if (p.edgeSources[before].kind == EdgeFactorSource::HalfCageEdge)
+            ownerOfEdgePoint(patch, before, 0x10000u, segments, ownerPatch, uv);
+        else
+            ownerOfEdgePoint(patch, corner, 0, segments, ownerPatch, uv);
         return;
     }
     const PointOwner& owner = pointOwners_.at(key.value);

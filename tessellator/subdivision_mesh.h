@@ -17,7 +17,9 @@
 // To make shared edges watertight, a point that several patches share is evaluated once, on its
 // "owner" (the lowest-numbered patch that has it), at the owner's coordinates, so every patch gets
 // the same bits. Points on a cage edge are named by the edge and their parameter along it (from the
-// lower-numbered vertex, in units of 2^-17, so the halves an N-gon's sub-patches see are exact);
+// lower-numbered vertex: k / n, with n the whole edge's segment count under integer partitioning,
+// or in units of 2^-17 for fractional partitioning, so the halves an N-gon's sub-patches see are
+// named exactly as the whole edge's points);
 // other corners (cage vertices, face centres) by a PointKey; interior sub-patch edges by their two
 // corner keys.
 //
@@ -97,8 +99,13 @@ public:
 
     // The owner of a point on patch `patch`'s local edge `edge` at local parameter `s` (16.16
     // fixed point, from the edge's start corner): patch index and that patch's local (u,v).
-    void ownerOfEdgePoint(int patch, int edge, std::uint32_t s, int& ownerPatch, float uv[2]) const;
-    void ownerOfCorner(int patch, int corner, int& ownerPatch, float uv[2]) const;
+    // `segments[e]` is the integer segment count of each patch edge under integer or pow2
+    // partitioning (points then sit at k/N and are named by k), or 0 for fractional modes (points
+    // are named by their fixed-point parameter).
+    void ownerOfEdgePoint(int patch, int edge, std::uint32_t s, const int segments[4],
+                          int& ownerPatch, float uv[2]) const;
+    void ownerOfCorner(int patch, int corner, const int segments[4], int& ownerPatch,
+                       float uv[2]) const;
 
     SubdivisionScheme scheme() const { return scheme_; }
 
@@ -139,7 +146,9 @@ private:
             return std::hash<std::uint64_t>()(k.first * 0x9e3779b97f4a7c15ull ^ k.second);
         }
     };
-    void ownerOnCageEdge(int cageEdge, std::uint32_t w, int& ownerPatch, float uv[2]) const;
+    // The point at k / n along a cage edge (canonical direction), n the whole edge's segments.
+    void ownerOnCageEdge(int cageEdge, std::uint32_t k, std::uint32_t n, int& ownerPatch,
+                         float uv[2]) const;
     // Patch edges on each cage edge, by increasing patch index.
     std::vector<std::vector<CageEdgeSpan>> cageEdgeSpans_;
     // Interior sub-patch edges (between sub-patches of one N-gon), keyed by their corner keys.

@@ -210,10 +210,13 @@ private:
         validateTopology();
     }
 
-    // Faces that repeat a vertex, or an edge used twice in the same direction (two faces with
-    // opposite orientation, or more than two faces on an edge), have no well-defined surface.
+    // A face that repeats a vertex has no surface. An edge used twice in the same direction (two
+    // faces of opposite orientation, or more than two faces on an edge) is non-manifold:
+    // OpenSubdiv accepts it (its regression shapes have such fans) and makes it sharp, so it is
+    // reported as a warning, once per cage.
     void validateTopology() {
         std::map<std::pair<int, int>, int> directedEdges;
+        bool warnedNonManifold = false;
         std::size_t offset = 0;
         for (std::size_t f = 0; f < cage_.faceSizes.size(); ++f) {
             const int n = cage_.faceSizes[f];
@@ -224,11 +227,13 @@ private:
                 if (a == b) fail(1, "face " + std::to_string(f) + " repeats vertex " +
                                         std::to_string(a + 1) + " (zero-length edge)");
                 auto [it, inserted] = directedEdges.emplace(std::make_pair(a, b), int(f));
-                if (!inserted) {
-                    fail(1, "non-manifold edge " + std::to_string(a + 1) + "-" +
-                                std::to_string(b + 1) + ": faces " + std::to_string(it->second) +
-                                " and " + std::to_string(f) +
-                                " use it in the same direction");
+                if (!inserted && !warnedNonManifold) {
+                    warnedNonManifold = true;
+                    cage_.warnings.push_back(
+                        path_ + ": line " + std::to_string(line_) + ": non-manifold edge " +
+                        std::to_string(a + 1) + "-" + std::to_string(b + 1) + " (faces " +
+                        std::to_string(it->second) + " and " + std::to_string(f) +
+                        " use it in the same direction); OpenSubdiv treats it as sharp");
                 }
             }
             offset += std::size_t(n);

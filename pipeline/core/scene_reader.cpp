@@ -288,6 +288,11 @@ SceneDesc parseScene(std::string_view text, const std::string& path, const std::
         if (auto pos = message.find("syntax error"); pos != std::string::npos)
             message = message.substr(pos);
         throw InputError(path, lineColumn(text, byte), "JSON " + message);
+    } catch (const Json::exception& e) {
+        // Numbers beyond double range ("number overflow parsing '1e999'").
+        std::string message = e.what();
+        if (auto pos = message.find(']'); pos != std::string::npos) message = message.substr(pos + 2);
+        throw InputError(path, "", "JSON " + message);
     }
     SceneDesc scene;
     scene.path = path;

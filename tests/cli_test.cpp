@@ -1,0 +1,124 @@
+// End-to-end tests of the patchsim command: exit codes, messages, and no partial output.
+
+#include <gtest/gtest.h>
+
+#include <array>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <sys/wait.h>
+
+#include "tests/test_paths.h"
+
+namespace {
+
+namespace fs = std::filesystem;
+using patchsim::test::sourcePath;
+
+struct CommandResult {
+    int exitCode;
+    std::string output;  // stdout and stderr
+};
+
+CommandResult run(const std::string& arguments) {
+    const std::string command = std::string(PATCHSIM_BINARY) + " " + arguments + " 2>&1";
+    FILE* pipe = popen(command.c_str(), "r");
+    CommandResult result{-1, {}};
+    if (!pipe) return result;
+    std::array<char, 4096> buffer;
+    std::size_t n;
+    while ((n = fread(buffer.data(), 1, buffer.size(), pipe)) > 0) result.output.append(buffer.data(), n);
+    const int status = pclose(pipe);
+    result.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    return result;
+}
+
+std::string writeFile(const std::string& name, const std::string& text) {
+    const std::string path = patchsim::test::temporaryDirectory() + "/" + name;
+    std::ofstream(path) << text;
+    return path;
+}
+
+TEST(Cli, InfoOnEveryShippedSceneAndTheDefault) {
+    for (const std::string& scene : patchsim::test::sceneFiles()) {
+        const CommandResult r = run("info " + scene);
+        EXPECT_EQ(r.exitCode, 0) << scene << "\n" << r.output;
+        EXPECT_NE(r.output.find("mode:"), std::string::npos);
+    }
+    const CommandResult r = run("info");
+    EXPECT_EQ(r.exitCode, 0) << r.output;
+    EXPECT_NE(r.output.find("motion:        yes"), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("defocus:       yes"), std::string::npos) << r.output;
+}
+
+TEST(Cli, InfoReportsStaticModeAndOverrides) {
+    CommandResult r = run("info " + sourcePath("scenes/static.json"));
+    EXPECT_NE(r.output.find("motion:        no"), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("mode:          static"), std::string::npos) << r.output;
+    r = run("info --no-motion " + sourcePath("scenes/motion.json"));
+    EXPECT_NE(r.output.find("motion:        yes (switched off)"), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("mode:          static"), std::string::npos) << r.output;
+}
+
+TEST(Cli, TessellateWritesAnObjAndStats) {
+    const std::string dir = patchsim::test::temporaryDirectory();
+    const std::string obj = dir + "/ngons.obj", stats = dir + "/stats.json";
+    const CommandResult r = run("tessellate " + sourcePath("scenes/ngons_loop.json") + " -o " + obj +
+                      " --time 0.5 --stats " + stats + " --threads 2");
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    EXPECT_TRUE(fs::exists(obj));
+    EXPECT_TRUE(fs::exists(stats));
+    std::ifstream in(stats);
+    const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    EXPECT_NE(text.find("\"schema\": \"patchsim-stats\""), std::string::npos);
+    EXPECT_NE(text.find("\"TS/Triangles\""), std::string::npos);
+}
+
+TEST(Cli, TessellationIsIdenticalOnOneAndTwoThreads) {
+    const std::string dir = patchsim::test::temporaryDirectory();
+    ASSERT_EQ(run("tessellate -q --threads 1 -o " + dir + "/a.obj --stats " + dir + "/a.json").exitCode, 0);
+    ASSERT_EQ(run("tessellate -q --threads 2 -o " + dir + "/b.obj --stats " + dir + "/b.json").exitCode, 0);
+    auto read = [](const std::string& p) {
+        std::ifstream in(p);
+        return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    };
+    EXPECT_EQ(read(dir + "/a.obj"), read(dir + "/b.obj"));
+    EXPECT_EQ(read(dir + "/a.json"), read(dir + "/b.json"));
+}
+
+void expectCleanFailure(const std::string& scene, const std::string& message) {
+    const std::string out = patchsim::test::temporaryDirectory() + "/should-not-exist.obj";
+    fs::remove(out);
+    const CommandResult r = run("tessellate " + scene + " -o " + out);
+    EXPECT_NE(r.exitCode, 0) << r.output;
+    EXPECT_NE(r.output.find(message), std::string::npos) << r.output;
+    EXPECT_EQ(r.output.find("internal error"), std::string::npos) << r.output;
+    EXPECT_FALSE(fs::exists(out)) << "partial output left behind";
+    for (const auto& entry : fs::directory_iterator(fs::path(out).parent_path()))
+        EXPECT_EQ(entry.path().string().find(".tmp-patchsim"), std::string::npos);
+}
+
+TEST(Cli, BadInputFailsCleanly) {
+    expectCleanFailure("/nonexistent.json", "/nonexistent.json: cannot open");
+    const std::string bad = writeFile("syntax.json", "{\n  \"objects\": [,]\n}\n");
+    expectCleanFailure(bad, "syntax.json: line 2, column 16: JSON syntax error");
+    const std::string unknown = writeFile("unknown.json", R"({"objects": [{"cage": "x.obj", "speed": 1}]})");
+    expectCleanFailure(unknown, "unknown.json: objects[0].speed: unknown key");
+    const std::string missing = writeFile("missing.json", R"({"objects": [{"cage": "no-such-cage.obj"}]})");
+    expectCleanFailure(missing, "missing.json: objects[0].cage: cannot open");
+    const std::string badObj = writeFile("bad.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 9\n");
+    const std::string usesBad = writeFile("uses-bad.json", R"({"objects": [{"cage": "bad.obj"}]})");
+    expectCleanFailure(usesBad, "bad.obj: line 4, column 7: vertex index 9 out of range");
+    const std::string wrongType = writeFile("type.json", R"({"film": {"spp": 2.5}, "objects": [{"cage": "x.obj"}]})");
+    expectCleanFailure(wrongType, "type.json: film.spp: expected an integer");
+    const std::string huge = writeFile("huge.json",
+                                       R"({"film": {"width": 16384, "height": 16384, "spp": 4096}, "objects": [{"cage": "x.obj"}]})");
+    expectCleanFailure(huge, "over the memory budget");
+}
+
+TEST(Cli, UnknownOptionIsAUsageError) {
+    const CommandResult r = run("info --frobnicate");
+    EXPECT_NE(r.exitCode, 0);
+}
+
+}  // namespace

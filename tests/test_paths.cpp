@@ -1,0 +1,35 @@
+#include "tests/test_paths.h"
+
+#include <algorithm>
+#include <filesystem>
+#include <unistd.h>
+
+namespace patchsim::test {
+
+namespace fs = std::filesystem;
+
+std::string sourcePath(const std::string& relative) {
+    return (fs::path(PATCHSIM_SOURCE_DIR) / relative).string();
+}
+
+std::string sharedModelsDir() { return PATCHSIM_SHARED_MODELS_DIR; }
+
+static std::vector<std::string> filesWithExtension(const std::string& dir, const std::string& ext) {
+    std::vector<std::string> files;
+    std::error_code ec;
+    for (const auto& entry : fs::directory_iterator(dir, ec))
+        if (entry.path().extension() == ext) files.push_back(entry.path().string());
+    std::sort(files.begin(), files.end());
+    return files;
+}
+
+std::vector<std::string> sharedModelFiles() { return filesWithExtension(sharedModelsDir(), ".obj"); }
+std::vector<std::string> sceneFiles() { return filesWithExtension(sourcePath("scenes"), ".json"); }
+
+std::string temporaryDirectory() {
+    const fs::path dir = fs::temp_directory_path() / ("patchsim-test-" + std::to_string(::getpid()));
+    fs::create_directories(dir);
+    return dir.string();
+}
+
+}  // namespace patchsim::test
