@@ -101,7 +101,7 @@ void expectCleanFailure(const std::string& scene, const std::string& message) {
 TEST(Cli, BadInputFailsCleanly) {
     expectCleanFailure("/nonexistent.json", "/nonexistent.json: cannot open");
     const std::string bad = writeFile("syntax.json", "{\n  \"objects\": [,]\n}\n");
-    expectCleanFailure(bad, "syntax.json: line 2, column 16: JSON syntax error");
+    expectCleanFailure(bad, "syntax.json: line 2, column 15: JSON syntax error");
     const std::string unknown = writeFile("unknown.json", R"({"objects": [{"cage": "x.obj", "speed": 1}]})");
     expectCleanFailure(unknown, "unknown.json: objects[0].speed: unknown key");
     const std::string missing = writeFile("missing.json", R"({"objects": [{"cage": "no-such-cage.obj"}]})");
