@@ -44,9 +44,15 @@ void tessellateTri(benchmark::State& state, Partitioning mode) {
 }
 
 BENCHMARK_CAPTURE(tessellateQuad, integer, Partitioning::Integer)->Arg(4)->Arg(16)->Arg(64);
-BENCHMARK_CAPTURE(tessellateQuad, fractional_odd, Partitioning::FractionalOdd)->Arg(4)->Arg(16)->Arg(64);
+BENCHMARK_CAPTURE(tessellateQuad, fractional_odd, Partitioning::FractionalOdd)
+    ->Arg(4)
+    ->Arg(16)
+    ->Arg(64);
 BENCHMARK_CAPTURE(tessellateTri, integer, Partitioning::Integer)->Arg(4)->Arg(16)->Arg(64);
-BENCHMARK_CAPTURE(tessellateTri, fractional_even, Partitioning::FractionalEven)->Arg(4)->Arg(16)->Arg(64);
+BENCHMARK_CAPTURE(tessellateTri, fractional_even, Partitioning::FractionalEven)
+    ->Arg(4)
+    ->Arg(16)
+    ->Arg(64);
 
 // HS + TS + DS over every patch of a shipped scene, one thread.
 void frontEndScene(benchmark::State& state, const char* scene) {
@@ -66,6 +72,7 @@ void frontEndScene(benchmark::State& state, const char* scene) {
 }
 
 BENCHMARK_CAPTURE(frontEndScene, static, "scenes/static.json")->Unit(benchmark::kMillisecond);
-BENCHMARK_CAPTURE(frontEndScene, motion_defocus, "scenes/motion_defocus.json")->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(frontEndScene, motion_defocus, "scenes/motion_defocus.json")
+    ->Unit(benchmark::kMillisecond);
 
 }  // namespace

@@ -42,7 +42,9 @@ constexpr int kLoopStart[33] = {1, 1, 17, 9, 9, 5, 5, 5, 5, 3, 3, 3, 3, 3, 3, 3,
 constexpr int kLoopEnd[33] = {0,  0,  17, 17, 25, 25, 25, 25, 29, 29, 29, 29, 29, 29, 29, 29, 31,
                               31, 31, 31, 31, 31, 31, 31, 31, 31, 31, 31, 31, 31, 31, 31, 32};
 
-std::uint32_t floatBits(float f) { return std::bit_cast<std::uint32_t>(f); }
+std::uint32_t floatBits(float f) {
+    return std::bit_cast<std::uint32_t>(f);
+}
 
 bool isNaN(float a) {
     const std::uint32_t bits = floatBits(a);
@@ -71,14 +73,20 @@ float d3dMax(float a, float b) {
     return fa >= fb ? a : b;
 }
 
-float clampFactor(float f, float lower, float upper) { return d3dMin(upper, d3dMax(lower, f)); }
+float clampFactor(float f, float lower, float upper) {
+    return d3dMin(upper, d3dMax(lower, f));
+}
 
-bool isEvenFloat(float f) { return (static_cast<int>(f) & 1) == 0; }
+bool isEvenFloat(float f) {
+    return (static_cast<int>(f) & 1) == 0;
+}
 
 std::uint32_t fxpCeil(std::uint32_t x) {
     return (x & kFractionMask) ? (x & kIntegerMask) + kOne : x;
 }
-std::uint32_t fxpFloor(std::uint32_t x) { return x & kIntegerMask; }
+std::uint32_t fxpFloor(std::uint32_t x) {
+    return x & kIntegerMask;
+}
 
 // Clears the most significant set bit of a value below 2^8 (the reference's RemoveMSB).
 int removeMsb(int value) {
@@ -143,8 +151,7 @@ struct D3D11Tessellator::TriSetup {
 
 D3D11Tessellator::D3D11Tessellator(Partitioning partitioning, Winding winding)
     : partitioning_(partitioning), winding_(winding) {
-    originalParity_ =
-        partitioning == Partitioning::FractionalOdd ? Parity::Odd : Parity::Even;
+    originalParity_ = partitioning == Partitioning::FractionalOdd ? Parity::Odd : Parity::Even;
     parity_ = originalParity_;
 }
 
@@ -214,8 +221,8 @@ std::uint32_t D3D11Tessellator::placePoint(const FactorContext& ctx, int point) 
     if (point > ctx.splitPointOnFloorHalf) onFloor -= 1;
     const std::uint32_t floorLocation = onFloor * ctx.invSegmentsOnFloor;
     const std::uint32_t ceilLocation = onCeil * ctx.invSegmentsOnCeil;
-    std::uint32_t location = floorLocation * (kOne - ctx.halfFactorFraction) +
-                             ceilLocation * ctx.halfFactorFraction;
+    std::uint32_t location =
+        floorLocation * (kOne - ctx.halfFactorFraction) + ceilLocation * ctx.halfFactorFraction;
     location = (location + kOneHalf) >> kFractionBits;
     return flip ? kOne - location : location;
 }
@@ -399,9 +406,8 @@ void D3D11Tessellator::quadConnectivity(const QuadSetup& s) {
     const int rowsToCenter[2] = {(s.insidePoints[0] + 1) >> 1, (s.insidePoints[1] + 1) >> 1};
     const int rings = std::min(rowsToCenter[0], rowsToCenter[1]);
     // Even partitioning leaves a degenerate row of points, an exception to the ring order.
-    const int degenerateRing[2] = {
-        s.insideParity[1] == Parity::Even ? rowsToCenter[1] - 1 : -1,
-        s.insideParity[0] == Parity::Even ? rowsToCenter[0] - 1 : -1};
+    const int degenerateRing[2] = {s.insideParity[1] == Parity::Even ? rowsToCenter[1] - 1 : -1,
+                                   s.insideParity[0] == Parity::Even ? rowsToCenter[0] - 1 : -1};
     const FactorContext* outsideCtx[4] = {&s.outsideCtx[0], &s.outsideCtx[1], &s.outsideCtx[2],
                                           &s.outsideCtx[3]};
     Parity outsideParity[4] = {s.outsideParity[0], s.outsideParity[1], s.outsideParity[2],
@@ -606,8 +612,12 @@ void D3D11Tessellator::triPoints(const TriSetup& s) {
                 const int q = (edge & 1) ? p : end - (p - start);
                 const std::uint32_t param = placePoint(s.insideCtx, q);
                 switch (edge) {
-                    case 0: definePoint(perp, param - shift, offset); break;
-                    case 1: definePoint(param - shift, perp, offset); break;
+                    case 0:
+                        definePoint(perp, param - shift, offset);
+                        break;
+                    case 1:
+                        definePoint(param - shift, perp, offset);
+                        break;
                     default:
                         definePoint(param - shift, kOne - (param - shift) - perp, offset);
                         break;

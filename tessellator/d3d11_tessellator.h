@@ -3,8 +3,8 @@
 //
 // Representation
 // --------------
-// The tessellator works in 16.16 unsigned fixed point, exactly as the D3D11 reference does, so every
-// domain coordinate it emits is a multiple of 2^-16 and converts to float without rounding. A
+// The tessellator works in 16.16 unsigned fixed point, exactly as the D3D11 reference does, so
+// every domain coordinate it emits is a multiple of 2^-16 and converts to float without rounding. A
 // tessellation factor is first clamped to the range of its partitioning mode, then (integer and
 // pow2) rounded up, then converted to fixed point. Per factor a small "context" is derived: how
 // many points lie on half of the edge, the fraction of the half factor, the reciprocals of the
@@ -63,7 +63,7 @@ struct Tessellation {
 // One tessellator per thread; it keeps no state between calls other than its mode, so the same
 // object can tessellate any number of patches. Output vectors are reused (cleared, not freed).
 class D3D11Tessellator {
-public:
+  public:
     explicit D3D11Tessellator(Partitioning partitioning, Winding winding = Winding::Clockwise);
 
     void tessellateQuad(const QuadTessFactors& factors, Tessellation& out);
@@ -80,7 +80,7 @@ public:
         int splitPointOnFloorHalf = 0;
     };
 
-private:
+  private:
     enum class Parity : std::uint8_t { Even, Odd };
     struct QuadSetup;
     struct TriSetup;

@@ -8,26 +8,38 @@
 
 namespace patchsim {
 
-PATCHSIM_COUNTER("HS/Patches", "patches", "Patches whose tessellation factors were computed", hsPatches);
-PATCHSIM_COUNTER("HS/Patches culled", "patches", "Patches culled by an edge factor <= 0 or NaN", hsCulled);
+PATCHSIM_COUNTER("HS/Patches", "patches", "Patches whose tessellation factors were computed",
+                 hsPatches);
+PATCHSIM_COUNTER("HS/Patches culled", "patches", "Patches culled by an edge factor <= 0 or NaN",
+                 hsCulled);
 PATCHSIM_COUNTER("HS/Edge factors", "factors", "Edge tessellation factors computed", hsEdgeFactors);
-PATCHSIM_COUNTER("TS/Domain points", "points", "Domain points emitted by the D3D11 tessellator", tsPoints);
-PATCHSIM_COUNTER("TS/Triangles", "triangles", "Triangles emitted by the D3D11 tessellator", tsTriangles);
-PATCHSIM_COUNTER("DS/Evaluations", "points", "Domain points evaluated on the limit surface (one stencil, applied at t=0 and t=1)",
-                 dsEvaluations);
+PATCHSIM_COUNTER("TS/Domain points", "points", "Domain points emitted by the D3D11 tessellator",
+                 tsPoints);
+PATCHSIM_COUNTER("TS/Triangles", "triangles", "Triangles emitted by the D3D11 tessellator",
+                 tsTriangles);
+PATCHSIM_COUNTER(
+    "DS/Evaluations", "points",
+    "Domain points evaluated on the limit surface (one stencil, applied at t=0 and t=1)",
+    dsEvaluations);
 PATCHSIM_COUNTER("DS/Shared-edge evaluations", "points",
-                 "Domain points on an edge or corner shared with a lower-numbered patch, evaluated on that owner patch",
+                 "Domain points on an edge or corner shared with a lower-numbered patch, evaluated "
+                 "on that owner patch",
                  dsOwnerEvaluations);
-PATCHSIM_COUNTER("DS/Stencil applications", "applications",
-                 "Stencil weight sets applied to a control-point set (position, du, dv at both shutter ends)",
-                 dsApplications);
+PATCHSIM_COUNTER(
+    "DS/Stencil applications", "applications",
+    "Stencil weight sets applied to a control-point set (position, du, dv at both shutter ends)",
+    dsApplications);
 
 namespace {
 
-bool integerLike(Partitioning p) { return p == Partitioning::Integer || p == Partitioning::Pow2; }
+bool integerLike(Partitioning p) {
+    return p == Partitioning::Integer || p == Partitioning::Pow2;
+}
 
 constexpr std::uint32_t kFixedOne = 0x10000u;
-std::uint32_t toFixed(float x) { return std::uint32_t(std::lround(double(x) * 65536.0)); }
+std::uint32_t toFixed(float x) {
+    return std::uint32_t(std::lround(double(x) * 65536.0));
+}
 
 // Which patch edge (or corner) a local domain point lies on. Coordinates are exact multiples of
 // 2^-16, so the comparisons are exact.
@@ -40,23 +52,37 @@ struct BoundaryPlace {
 BoundaryPlace locate(PatchDomain domain, float u, float v) {
     BoundaryPlace b;
     if (domain == PatchDomain::Quad) {
-        if (u == 0 && v == 0) b.corner = 0;
-        else if (u == 1 && v == 0) b.corner = 1;
-        else if (u == 1 && v == 1) b.corner = 2;
-        else if (u == 0 && v == 1) b.corner = 3;
-        else if (v == 0) b = {-1, 0, toFixed(u)};
-        else if (u == 1) b = {-1, 1, toFixed(v)};
-        else if (v == 1) b = {-1, 2, kFixedOne - toFixed(u)};
-        else if (u == 0) b = {-1, 3, kFixedOne - toFixed(v)};
+        if (u == 0 && v == 0)
+            b.corner = 0;
+        else if (u == 1 && v == 0)
+            b.corner = 1;
+        else if (u == 1 && v == 1)
+            b.corner = 2;
+        else if (u == 0 && v == 1)
+            b.corner = 3;
+        else if (v == 0)
+            b = {-1, 0, toFixed(u)};
+        else if (u == 1)
+            b = {-1, 1, toFixed(v)};
+        else if (v == 1)
+            b = {-1, 2, kFixedOne - toFixed(u)};
+        else if (u == 0)
+            b = {-1, 3, kFixedOne - toFixed(v)};
         return b;
     }
     const std::uint32_t fu = toFixed(u), fv = toFixed(v);
-    if (fu == 0 && fv == 0) b.corner = 0;
-    else if (fu == kFixedOne && fv == 0) b.corner = 1;
-    else if (fu == 0 && fv == kFixedOne) b.corner = 2;
-    else if (fv == 0) b = {-1, 0, fu};
-    else if (fu + fv == kFixedOne) b = {-1, 1, fv};
-    else if (fu == 0) b = {-1, 2, kFixedOne - fv};
+    if (fu == 0 && fv == 0)
+        b.corner = 0;
+    else if (fu == kFixedOne && fv == 0)
+        b.corner = 1;
+    else if (fu == 0 && fv == kFixedOne)
+        b.corner = 2;
+    else if (fv == 0)
+        b = {-1, 0, fu};
+    else if (fu + fv == kFixedOne)
+        b = {-1, 1, fv};
+    else if (fu == 0)
+        b = {-1, 2, kFixedOne - fv};
     return b;
 }
 
@@ -136,8 +162,10 @@ float FrontEnd::rawEdgeFactor(const SceneObject& object, const EdgeFactorSource&
         return f;
     };
     switch (source.kind) {
-        case EdgeFactorSource::WholeCageEdge: return cageEdgeFactor(source.cageEdge);
-        case EdgeFactorSource::HalfCageEdge: return cageEdgeFactor(source.cageEdge) / 2.0f;
+        case EdgeFactorSource::WholeCageEdge:
+            return cageEdgeFactor(source.cageEdge);
+        case EdgeFactorSource::HalfCageEdge:
+            return cageEdgeFactor(source.cageEdge) / 2.0f;
         case EdgeFactorSource::Interior: {
             if (!adaptive) return t.factor / 2.0f;
             const std::vector<int>& fv = mesh.faceVertices(source.face);
@@ -231,7 +259,8 @@ void FrontEnd::runDomainShader(const SceneObject& object, int patchIndex, Tessel
         static constexpr int kQuadD3DEdge[4] = {1, 2, 3, 0};
         static constexpr int kTriD3DEdge[3] = {1, 2, 0};
         for (int e = 0; e < self.cornerCount(); ++e) {
-            const float f = out.edgeFactors[self.domain == PatchDomain::Quad ? kQuadD3DEdge[e] : kTriD3DEdge[e]];
+            const float f = out.edgeFactors[self.domain == PatchDomain::Quad ? kQuadD3DEdge[e]
+                                                                             : kTriD3DEdge[e]];
             segments[e] = int(std::ceil(std::clamp(f, 1.0f, 64.0f)));
         }
     }

@@ -54,7 +54,7 @@ struct FrontEndWorkspace {
 };
 
 class FrontEnd {
-public:
+  public:
     // Reads every cage; throws InputError naming the scene file and field on bad input.
     explicit FrontEnd(const SceneDesc& scene);
 
@@ -74,7 +74,7 @@ public:
     // Raw factor of a patch edge before HS processing (public for tests of crack-freeness).
     float rawEdgeFactor(const SceneObject& object, const EdgeFactorSource& source) const;
 
-private:
+  private:
     void runHullShader(const SceneObject& object, const PatchInfo& patch,
                        TessellatedPatch& out) const;
     void runDomainShader(const SceneObject& object, int patchIndex, TessellatedPatch& out,

@@ -8,17 +8,24 @@ namespace patchsim {
 
 namespace {
 
-bool isNaN(float f) { return f != f; }
+bool isNaN(float f) {
+    return f != f;
+}
 
 // Clamp to [1, inf), NaN to 1.
-float cleanup(float f) { return (isNaN(f) || f < 1.0f) ? 1.0f : f; }
+float cleanup(float f) {
+    return (isNaN(f) || f < 1.0f) ? 1.0f : f;
+}
 
 float clampToMode(float f, Partitioning p) {
     switch (p) {
         case Partitioning::Pow2:
-        case Partitioning::Integer: return std::clamp(f, 1.0f, 64.0f);
-        case Partitioning::FractionalOdd: return std::clamp(f, 1.0f, 63.0f);
-        case Partitioning::FractionalEven: return std::clamp(f, 2.0f, 64.0f);
+        case Partitioning::Integer:
+            return std::clamp(f, 1.0f, 64.0f);
+        case Partitioning::FractionalOdd:
+            return std::clamp(f, 1.0f, 63.0f);
+        case Partitioning::FractionalEven:
+            return std::clamp(f, 2.0f, 64.0f);
     }
     return f;
 }
@@ -45,9 +52,12 @@ bool oddInside(float inside, Partitioning p) {
 
 float reduce(InsideReduction r, float a, float b) {
     switch (r) {
-        case InsideReduction::Min: return std::min(a, b);
-        case InsideReduction::Max: return std::max(a, b);
-        case InsideReduction::Average: return (a + b) / 2;
+        case InsideReduction::Min:
+            return std::min(a, b);
+        case InsideReduction::Max:
+            return std::max(a, b);
+        case InsideReduction::Average:
+            return (a + b) / 2;
     }
     return a;
 }
@@ -80,8 +90,8 @@ QuadTessFactors processQuadFactors(const float edges[4], const HullShaderConfig&
     // Inside along u spans the v=0 and v=1 edges; inside along v the u=0 and u=1 edges.
     float inside[2] = {reduce(c.insideReduction, cleaned[1], cleaned[3]),
                        reduce(c.insideReduction, cleaned[0], cleaned[2])};
-    for (float& in : inside) in = clampToMode(roundUp(clampToMode(in, c.partitioning),
-                                                      c.partitioning), c.partitioning);
+    for (float& in : inside)
+        in = clampToMode(roundUp(clampToMode(in, c.partitioning), c.partitioning), c.partitioning);
     inside[0] = raisePictureFrame(inside[0], cleaned[1], cleaned[3], c);
     inside[1] = raisePictureFrame(inside[1], cleaned[0], cleaned[2], c);
     // The picture frame interpolates in on all sides as much as the smaller axis allows.
@@ -111,9 +121,15 @@ TriTessFactors processTriFactors(const float edges[3], const HullShaderConfig& c
     }
     float inside = 0;
     switch (c.insideReduction) {
-        case InsideReduction::Min: inside = std::min({cleaned[0], cleaned[1], cleaned[2]}); break;
-        case InsideReduction::Max: inside = std::max({cleaned[0], cleaned[1], cleaned[2]}); break;
-        case InsideReduction::Average: inside = (cleaned[0] + cleaned[1] + cleaned[2]) / 3; break;
+        case InsideReduction::Min:
+            inside = std::min({cleaned[0], cleaned[1], cleaned[2]});
+            break;
+        case InsideReduction::Max:
+            inside = std::max({cleaned[0], cleaned[1], cleaned[2]});
+            break;
+        case InsideReduction::Average:
+            inside = (cleaned[0] + cleaned[1] + cleaned[2]) / 3;
+            break;
     }
     inside = clampToMode(inside, c.partitioning);
     inside = roundUp(inside, c.partitioning);

@@ -17,8 +17,8 @@ namespace patchsim {
 
 namespace osd = OpenSubdiv::OPENSUBDIV_VERSION;
 
-PATCHSIM_COUNTER("IA/Patches", "patches", "Tessellation domains made from cage faces (an N-gon is N)",
-                 iaPatches);
+PATCHSIM_COUNTER("IA/Patches", "patches",
+                 "Tessellation domains made from cage faces (an N-gon is N)", iaPatches);
 PATCHSIM_COUNTER("IA/Cage faces", "faces", "Faces of the control cages read", iaCageFaces);
 PATCHSIM_COUNTER("IA/Hole faces", "faces", "Cage faces tagged as holes (no patch)", iaHoleFaces);
 
@@ -34,9 +34,12 @@ void onFarError(osd::Far::ErrorType, const char* message) {
 
 osd::Sdc::SchemeType toOsd(SubdivisionScheme s) {
     switch (s) {
-        case SubdivisionScheme::Catmark: return osd::Sdc::SCHEME_CATMARK;
-        case SubdivisionScheme::Loop: return osd::Sdc::SCHEME_LOOP;
-        case SubdivisionScheme::Bilinear: return osd::Sdc::SCHEME_BILINEAR;
+        case SubdivisionScheme::Catmark:
+            return osd::Sdc::SCHEME_CATMARK;
+        case SubdivisionScheme::Loop:
+            return osd::Sdc::SCHEME_LOOP;
+        case SubdivisionScheme::Bilinear:
+            return osd::Sdc::SCHEME_BILINEAR;
     }
     return osd::Sdc::SCHEME_CATMARK;
 }
@@ -77,9 +80,10 @@ SubdivisionMesh::SubdivisionMesh(const Cage& cage, SubdivisionScheme scheme,
     if (scheme == SubdivisionScheme::Loop) {
         for (int f = 0; f < cage.faceCount(); ++f) {
             if (cage.faceSizes[std::size_t(f)] != 3)
-                throw InputError(path, "f", "face " + std::to_string(f) + " has " +
-                                                std::to_string(cage.faceSizes[std::size_t(f)]) +
-                                                " sides; the Loop scheme needs triangles");
+                throw InputError(path, "f",
+                                 "face " + std::to_string(f) + " has " +
+                                     std::to_string(cage.faceSizes[std::size_t(f)]) +
+                                     " sides; the Loop scheme needs triangles");
         }
     }
     std::vector<int> creasePairs;
@@ -114,12 +118,13 @@ SubdivisionMesh::SubdivisionMesh(const Cage& cage, SubdivisionScheme scheme,
         farError.clear();
         osd::Far::SetErrorCallback(onFarError);
         using Factory = osd::Far::TopologyRefinerFactory<osd::Far::TopologyDescriptor>;
-        impl_->refiner.reset(Factory::Create(
-            desc, Factory::Options(toOsd(scheme), sdcOptions(cage))));
+        impl_->refiner.reset(
+            Factory::Create(desc, Factory::Options(toOsd(scheme), sdcOptions(cage))));
         osd::Far::SetErrorCallback(nullptr);
         if (!impl_->refiner)
-            throw InputError(path, "f", "OpenSubdiv rejected the topology: " +
-                                            (farError.empty() ? "unknown error" : farError));
+            throw InputError(path, "f",
+                             "OpenSubdiv rejected the topology: " +
+                                 (farError.empty() ? "unknown error" : farError));
     }
     const osd::Far::TopologyLevel& level = impl_->refiner->GetLevel(0);
     edgeVertices_.resize(std::size_t(2 * level.GetNumEdges()));
@@ -214,7 +219,8 @@ bool SubdivisionMesh::cageEdgeSpan(int patch, int edge, CageEdgeSpan& span) cons
     span.length = kCageEdgeOne / 2;
     // Canonical direction runs low -> high: in the low half from the vertex, in the high half
     // from the midpoint.
-    span.sameDirection = fromLow ? a.kind() == PointKey::Vertex : a.kind() == PointKey::EdgeMidpoint;
+    span.sameDirection =
+        fromLow ? a.kind() == PointKey::Vertex : a.kind() == PointKey::EdgeMidpoint;
     return true;
 }
 
@@ -327,7 +333,8 @@ void SubdivisionMesh::ownerOfEdgePoint(int patch, int edge, std::uint32_t s, con
             ownerOnCageEdge(cageEdge, k, whole, ownerPatch, uv);
             return;
         }
-        const auto w = std::uint32_t(span.start + std::uint64_t(canonical) * span.length / 0x10000u);
+        const auto w =
+            std::uint32_t(span.start + std::uint64_t(canonical) * span.length / 0x10000u);
         ownerOnCageEdge(cageEdge, w, kCageEdgeOne, ownerPatch, uv);
         return;
     }

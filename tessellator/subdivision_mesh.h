@@ -10,9 +10,10 @@
 // const and thread-safe) gives the limit stencils.
 //
 // A patch is one tessellation domain. A face of the scheme's regular size (4 for Catmull-Clark and
-// bilinear, 3 for Loop) is one patch. Any other Catmull-Clark face of N sides is N quad sub-patches,
-// as Bfr::Parameterization divides it: sub-patch i has its (0,0) corner at the face's vertex i,
-// (1,0) at the midpoint of edge i, (1,1) at the face centre and (0,1) at the midpoint of edge i-1.
+// bilinear, 3 for Loop) is one patch. Any other Catmull-Clark face of N sides is N quad
+// sub-patches, as Bfr::Parameterization divides it: sub-patch i has its (0,0) corner at the face's
+// vertex i, (1,0) at the midpoint of edge i, (1,1) at the face centre and (0,1) at the midpoint of
+// edge i-1.
 //
 // To make shared edges watertight, a point that several patches share is evaluated once, on its
 // "owner" (the lowest-numbered patch that has it), at the owner's coordinates, so every patch gets
@@ -70,7 +71,7 @@ struct PatchInfo {
 };
 
 class SubdivisionMesh {
-public:
+  public:
     // Throws InputError (naming `path`) when OpenSubdiv rejects the topology or the scheme
     // does not fit the faces (Loop needs triangles).
     SubdivisionMesh(const Cage& cage, SubdivisionScheme scheme, const std::string& path);
@@ -80,10 +81,16 @@ public:
 
     const std::vector<PatchInfo>& patches() const { return patches_; }
     int cageEdgeCount() const { return static_cast<int>(edgeVertices_.size() / 2); }
-    int cageEdgeVertex(int edge, int end) const { return edgeVertices_[std::size_t(2 * edge + end)]; }
+    int cageEdgeVertex(int edge, int end) const {
+        return edgeVertices_[std::size_t(2 * edge + end)];
+    }
     // True when the cage edge borders a face that is split into sub-patches.
-    bool cageEdgeNextToSubpatches(int edge) const { return edgeNextToSubpatches_[std::size_t(edge)]; }
-    const std::vector<int>& faceVertices(int face) const { return faceVertices_[std::size_t(face)]; }
+    bool cageEdgeNextToSubpatches(int edge) const {
+        return edgeNextToSubpatches_[std::size_t(edge)];
+    }
+    const std::vector<int>& faceVertices(int face) const {
+        return faceVertices_[std::size_t(face)];
+    }
 
     // Face-level (u,v) of the Bfr parameterization for a patch-local domain point.
     void faceCoord(const PatchInfo& patch, float u, float v, float faceUV[2]) const;
@@ -95,7 +102,8 @@ public:
     // Limit stencil of a face at face-level (u,v); reuses the buffers in `out`.
     void evaluateStencil(int face, const float faceUV[2], Stencil& out) const;
     // Applies one weight set of a stencil to a control-point set (Bfr ApplyStencilFromMesh).
-    Vec3 applyStencil(int face, const std::vector<float>& weights, const std::vector<Vec3>& points) const;
+    Vec3 applyStencil(int face, const std::vector<float>& weights,
+                      const std::vector<Vec3>& points) const;
 
     // The owner of a point on patch `patch`'s local edge `edge` at local parameter `s` (16.16
     // fixed point, from the edge's start corner): patch index and that patch's local (u,v).
@@ -109,7 +117,7 @@ public:
 
     SubdivisionScheme scheme() const { return scheme_; }
 
-private:
+  private:
     struct Impl;
     void buildPatches();
     void buildOwners();

@@ -4,8 +4,8 @@
 
 namespace patchsim {
 
-PATCHSIM_COUNTER("VS/Control points", "points", "Cage control points transformed (both shutter ends count once)",
-                 vsControlPoints);
+PATCHSIM_COUNTER("VS/Control points", "points",
+                 "Cage control points transformed (both shutter ends count once)", vsControlPoints);
 
 ControlPoints runVertexStage(const ObjectDesc& object, const Cage& cage, const Cage* closeCage,
                              const ShutterDesc& shutter) {
@@ -22,7 +22,9 @@ ControlPoints runVertexStage(const ObjectDesc& object, const Cage& cage, const C
         for (int end = 0; end < 2; ++end) {
             const float t = shutterTime[end];
             // Exact at the keyframes and for points that do not move, so static is bitwise static.
-            out.at[end][i] = (t == 0.0f || key0 == key1) ? key0 : t == 1.0f ? key1 : lerp(key0, key1, t);
+            out.at[end][i] = (t == 0.0f || key0 == key1) ? key0
+                             : t == 1.0f                 ? key1
+                                                         : lerp(key0, key1, t);
         }
     }
     vsControlPoints += std::int64_t(cage.positions.size());

@@ -19,6 +19,6 @@ struct ControlPoints {
 
 // `closeCage` is null when the object has no per-vertex close positions.
 ControlPoints runVertexStage(const ObjectDesc& object, const Cage& cage, const Cage* closeCage,
-                            const ShutterDesc& shutter);
+                             const ShutterDesc& shutter);
 
 }  // namespace patchsim

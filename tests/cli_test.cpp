@@ -1,12 +1,12 @@
 // End-to-end tests of the patchsim command: exit codes, messages, and no partial output.
 
 #include <gtest/gtest.h>
+#include <sys/wait.h>
 
 #include <array>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
-#include <sys/wait.h>
 
 #include "tests/test_paths.h"
 
@@ -27,7 +27,8 @@ CommandResult run(const std::string& arguments) {
     if (!pipe) return result;
     std::array<char, 4096> buffer;
     std::size_t n;
-    while ((n = fread(buffer.data(), 1, buffer.size(), pipe)) > 0) result.output.append(buffer.data(), n);
+    while ((n = fread(buffer.data(), 1, buffer.size(), pipe)) > 0)
+        result.output.append(buffer.data(), n);
     const int status = pclose(pipe);
     result.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
     return result;
@@ -63,8 +64,8 @@ TEST(Cli, InfoReportsStaticModeAndOverrides) {
 TEST(Cli, TessellateWritesAnObjAndStats) {
     const std::string dir = patchsim::test::temporaryDirectory();
     const std::string obj = dir + "/ngons.obj", stats = dir + "/stats.json";
-    const CommandResult r = run("tessellate " + sourcePath("scenes/ngons_loop.json") + " -o " + obj +
-                      " --time 0.5 --stats " + stats + " --threads 2");
+    const CommandResult r = run("tessellate " + sourcePath("scenes/ngons_loop.json") + " -o " +
+                                obj + " --time 0.5 --stats " + stats + " --threads 2");
     ASSERT_EQ(r.exitCode, 0) << r.output;
     EXPECT_TRUE(fs::exists(obj));
     EXPECT_TRUE(fs::exists(stats));
@@ -76,8 +77,12 @@ TEST(Cli, TessellateWritesAnObjAndStats) {
 
 TEST(Cli, TessellationIsIdenticalOnOneAndTwoThreads) {
     const std::string dir = patchsim::test::temporaryDirectory();
-    ASSERT_EQ(run("tessellate -q --threads 1 -o " + dir + "/a.obj --stats " + dir + "/a.json").exitCode, 0);
-    ASSERT_EQ(run("tessellate -q --threads 2 -o " + dir + "/b.obj --stats " + dir + "/b.json").exitCode, 0);
+    ASSERT_EQ(
+        run("tessellate -q --threads 1 -o " + dir + "/a.obj --stats " + dir + "/a.json").exitCode,
+        0);
+    ASSERT_EQ(
+        run("tessellate -q --threads 2 -o " + dir + "/b.obj --stats " + dir + "/b.json").exitCode,
+        0);
     auto read = [](const std::string& p) {
         std::ifstream in(p);
         return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
@@ -102,18 +107,37 @@ TEST(Cli, BadInputFailsCleanly) {
     expectCleanFailure("/nonexistent.json", "/nonexistent.json: cannot open");
     const std::string bad = writeFile("syntax.json", "{\n  \"objects\": [,]\n}\n");
     expectCleanFailure(bad, "syntax.json: line 2, column 15: JSON syntax error");
-    const std::string unknown = writeFile("unknown.json", R"({"objects": [{"cage": "x.obj", "speed": 1}]})");
+    const std::string unknown =
+        writeFile("unknown.json", R"({"objects": [{"cage": "x.obj", "speed": 1}]})");
     expectCleanFailure(unknown, "unknown.json: objects[0].speed: unknown key");
-    const std::string missing = writeFile("missing.json", R"({"objects": [{"cage": "no-such-cage.obj"}]})");
+    const std::string missing =
+        writeFile("missing.json", R"({"objects": [{"cage": "no-such-cage.obj"}]})");
     expectCleanFailure(missing, "missing.json: objects[0].cage: cannot open");
     const std::string badObj = writeFile("bad.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 9\n");
     const std::string usesBad = writeFile("uses-bad.json", R"({"objects": [{"cage": "bad.obj"}]})");
     expectCleanFailure(usesBad, "bad.obj: line 4, column 7: vertex index 9 out of range");
-    const std::string wrongType = writeFile("type.json", R"({"film": {"spp": 2.5}, "objects": [{"cage": "x.obj"}]})");
+    const std::string wrongType =
+        writeFile("type.json", R"({"film": {"spp": 2.5}, "objects": [{"cage": "x.obj"}]})");
     expectCleanFailure(wrongType, "type.json: film.spp: expected an integer");
-    const std::string huge = writeFile("huge.json",
-                                       R"({"film": {"width": 16384, "height": 16384, "spp": 4096}, "objects": [{"cage": "x.obj"}]})");
+    const std::string huge = writeFile(
+        "huge.json",
+        R"({"film": {"width": 16384, "height": 16384, "spp": 4096}, "objects": [{"cage": "x.obj"}]})");
     expectCleanFailure(huge, "over the memory budget");
+}
+
+TEST(Cli, InfoAndTessellateEveryRegressionCage) {
+    const auto cages = patchsim::test::sharedModelFiles();
+    if (cages.empty()) GTEST_SKIP() << "shared cages missing";
+    const std::string out = patchsim::test::temporaryDirectory() + "/cage.obj";
+    for (const std::string& cage : cages) {
+        CommandResult r = run("info " + cage);
+        EXPECT_EQ(r.exitCode, 0) << cage << "\n" << r.output;
+        EXPECT_NE(r.output.find("triangles:"), std::string::npos) << cage;
+        r = run("tessellate -q " + cage + " -o " + out);
+        EXPECT_EQ(r.exitCode, 0) << cage << "\n" << r.output;
+        EXPECT_TRUE(fs::exists(out)) << cage;
+        fs::remove(out);
+    }
 }
 
 TEST(Cli, UnknownOptionIsAUsageError) {

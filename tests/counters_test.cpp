@@ -8,8 +8,10 @@
 
 #include "tests/test_paths.h"
 
-PATCHSIM_COUNTER("Test/Increments", "increments", "Counted by the counter test only", testIncrements);
-PATCHSIM_COUNTER_MAX("Test/Largest", "items", "Largest value seen by the counter test", testLargest);
+PATCHSIM_COUNTER("Test/Increments", "increments", "Counted by the counter test only",
+                 testIncrements);
+PATCHSIM_COUNTER_MAX("Test/Largest", "items", "Largest value seen by the counter test",
+                     testLargest);
 
 namespace patchsim {
 namespace {

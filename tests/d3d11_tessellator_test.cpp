@@ -19,7 +19,8 @@ constexpr Partitioning kAllModes[] = {Partitioning::Integer, Partitioning::Pow2,
 // Segments per edge that a uniform factor gives after the HS and TS rules of each mode.
 int segmentsFor(Partitioning mode, float f) {
     switch (mode) {
-        case Partitioning::Integer: return int(std::ceil(std::clamp(f, 1.0f, 64.0f)));
+        case Partitioning::Integer:
+            return int(std::ceil(std::clamp(f, 1.0f, 64.0f)));
         case Partitioning::Pow2: {
             int n = 1;
             while (float(n) < std::clamp(f, 1.0f, 64.0f)) n *= 2;
@@ -57,7 +58,8 @@ double signedArea(const Tessellation& t, std::size_t tri) {
     const DomainPoint a = t.points[t.indices[3 * tri]];
     const DomainPoint b = t.points[t.indices[3 * tri + 1]];
     const DomainPoint c = t.points[t.indices[3 * tri + 2]];
-    return 0.5 * ((double(b.u) - a.u) * (double(c.v) - a.v) - (double(c.u) - a.u) * (double(b.v) - a.v));
+    return 0.5 *
+           ((double(b.u) - a.u) * (double(c.v) - a.v) - (double(c.u) - a.u) * (double(b.v) - a.v));
 }
 
 // The triangles tile the domain: valid indices, one orientation, and areas that add up to the
@@ -72,7 +74,8 @@ void expectTiling(const Tessellation& t, double domainArea, const std::string& w
     constexpr double kSliver = 1.0 / (1 << 20);
     double total = 0;
     for (std::size_t tri = 0; tri < t.triangleCount(); ++tri) {
-        for (int k = 0; k < 3; ++k) ASSERT_LT(t.indices[3 * tri + std::size_t(k)], t.points.size()) << what;
+        for (int k = 0; k < 3; ++k)
+            ASSERT_LT(t.indices[3 * tri + std::size_t(k)], t.points.size()) << what;
         const double area = signedArea(t, tri);
         if (std::abs(area) < kSliver) {
             ASSERT_TRUE(allowDegenerate) << what << " triangle " << tri << " is degenerate";
@@ -116,8 +119,9 @@ TEST(D3D11Tessellator, IntegerTriangleCountsForEveryFactor) {
     for (int n = 1; n <= 64; ++n) {
         const Tessellation t = uniformTri(Partitioning::Integer, float(n));
         const int h = n / 2;
-        const std::size_t points = n % 2 == 0 ? std::size_t(3 * h * (h + 1) + 1)
-                                              : std::size_t(3 * n + 3 * ((n - 1) / 2) * ((n - 1) / 2));
+        const std::size_t points = n % 2 == 0
+                                       ? std::size_t(3 * h * (h + 1) + 1)
+                                       : std::size_t(3 * n + 3 * ((n - 1) / 2) * ((n - 1) / 2));
         EXPECT_EQ(t.points.size(), points) << "factor " << n;
         EXPECT_EQ(t.triangleCount(), std::size_t(3 * n * n / 2)) << "factor " << n;
         expectTiling(t, 0.5, "integer triangle " + std::to_string(n));
@@ -227,10 +231,18 @@ std::vector<float> quadEdgeParams(const Tessellation& t, int d3dEdge) {
     std::vector<float> params;
     for (const DomainPoint& p : t.points) {
         switch (d3dEdge) {
-            case 0: if (p.u == 0) params.push_back(p.v); break;
-            case 1: if (p.v == 0) params.push_back(p.u); break;
-            case 2: if (p.u == 1) params.push_back(p.v); break;
-            case 3: if (p.v == 1) params.push_back(p.u); break;
+            case 0:
+                if (p.u == 0) params.push_back(p.v);
+                break;
+            case 1:
+                if (p.v == 0) params.push_back(p.u);
+                break;
+            case 2:
+                if (p.u == 1) params.push_back(p.v);
+                break;
+            case 3:
+                if (p.v == 1) params.push_back(p.u);
+                break;
         }
     }
     std::sort(params.begin(), params.end());
@@ -259,7 +271,8 @@ TEST(D3D11Tessellator, EdgePointsDependOnlyOnTheEdgeFactorAndMirrorExactly) {
             const std::vector<float> pa = quadEdgeParams(ta, 2), pb = quadEdgeParams(tb, 0);
             ASSERT_EQ(pa, pb) << partitioningName(mode) << " factor " << shared;
             // Read from the other end, the points are the exact complements.
-            for (std::size_t i = 0; i < pa.size(); ++i) EXPECT_EQ(1.0f - pa[i], pa[pa.size() - 1 - i]);
+            for (std::size_t i = 0; i < pa.size(); ++i)
+                EXPECT_EQ(1.0f - pa[i], pa[pa.size() - 1 - i]);
             expectTiling(ta, 1.0, "random quad", true);
             // A triangle with the same edge factor puts the same points on its v=0 edge.
             TriTessFactors t;
@@ -270,7 +283,8 @@ TEST(D3D11Tessellator, EdgePointsDependOnlyOnTheEdgeFactorAndMirrorExactly) {
             Tessellation tt;
             ts.tessellateTri(t, tt);
             std::vector<float> pt;
-            for (const DomainPoint& p : tt.points) if (p.v == 0) pt.push_back(p.u);
+            for (const DomainPoint& p : tt.points)
+                if (p.v == 0) pt.push_back(p.u);
             std::sort(pt.begin(), pt.end());
             EXPECT_EQ(pt, pa);
             expectTiling(tt, 0.5, "random triangle", true);

@@ -65,7 +65,8 @@ WeldedMesh weld(const std::vector<TessellatedPatch>& patches) {
         for (std::size_t t = 0; t + 2 < idx.size(); t += 3) {
             ++mesh.triangles;
             for (int e = 0; e < 3; ++e) {
-                const std::size_t a = id[idx[t + std::size_t(e)]], b = id[idx[t + std::size_t((e + 1) % 3)]];
+                const std::size_t a = id[idx[t + std::size_t(e)]],
+                                  b = id[idx[t + std::size_t((e + 1) % 3)]];
                 ++edgeUse[{std::min(a, b), std::max(a, b)}];
             }
         }
@@ -99,13 +100,14 @@ TEST(FrontEnd, SharedEdgesAreWatertightOnEveryRegressionCage) {
     const auto files = test::sharedModelFiles();
     if (files.empty()) GTEST_SKIP() << "shared cages missing";
     for (const std::string& path : files) {
-        for (auto [mode, factor] : {std::pair{Partitioning::Integer, 5.0f},
-                                    std::pair{Partitioning::Pow2, 3.0f},
-                                    std::pair{Partitioning::FractionalOdd, 4.3f}}) {
+        for (auto [mode, factor] :
+             {std::pair{Partitioning::Integer, 5.0f}, std::pair{Partitioning::Pow2, 3.0f},
+              std::pair{Partitioning::FractionalOdd, 4.3f}}) {
             const FrontEnd fe(sceneWithCage(path, mode, factor));
             const Cage& cage = fe.objects()[0].cage;
             bool ngons = false;
-            for (int n : cage.faceSizes) ngons = ngons || n != (path.find("loop_") != std::string::npos ? 3 : 4);
+            for (int n : cage.faceSizes)
+                ngons = ngons || n != (path.find("loop_") != std::string::npos ? 3 : 4);
             // Fractional factors cannot be halved exactly for N-gon sub-patches (documented).
             if (ngons && mode == Partitioning::FractionalOdd) continue;
             const WeldedMesh mesh = weld(tessellateAll(fe));
@@ -151,7 +153,8 @@ TEST(FrontEnd, TriangleWindingFollowsTheSurfaceNormal) {
     for (const TessellatedPatch& p : tessellateAll(fe)) {
         const auto& idx = p.tessellation.indices;
         for (std::size_t t = 0; t + 2 < idx.size(); t += 3) {
-            const Vec3 a = p.position[0][idx[t]], b = p.position[0][idx[t + 1]], c = p.position[0][idx[t + 2]];
+            const Vec3 a = p.position[0][idx[t]], b = p.position[0][idx[t + 1]],
+                       c = p.position[0][idx[t + 2]];
             const Vec3 n = p.normal[0][idx[t]] + p.normal[0][idx[t + 1]] + p.normal[0][idx[t + 2]];
             agree += glm::dot(glm::cross(b - a, c - a), n) > 0;
             ++total;
@@ -173,9 +176,9 @@ TEST(FrontEnd, StaticSceneIsBitwiseStaticAndMovingSceneMoves) {
 
 TEST(FrontEnd, EffectsOfEveryShippedScene) {
     const std::map<std::string, std::array<bool, 3>> expected = {
-        {"default.json", {true, true, false}},   {"motion_defocus.json", {true, true, false}},
-        {"static.json", {false, false, false}},  {"motion.json", {true, false, false}},
-        {"defocus.json", {false, true, false}},  {"transparency.json", {true, false, true}},
+        {"default.json", {true, true, false}},     {"motion_defocus.json", {true, true, false}},
+        {"static.json", {false, false, false}},    {"motion.json", {true, false, false}},
+        {"defocus.json", {false, true, false}},    {"transparency.json", {true, false, true}},
         {"ngons_loop.json", {false, false, false}}};
     for (const std::string& path : test::sceneFiles()) {
         const std::string name = std::filesystem::path(path).filename().string();
@@ -239,7 +242,8 @@ TEST(FrontEnd, MissingCageNamesTheSceneField) {
         FrontEnd fe(scene);
         FAIL() << "no error";
     } catch (const InputError& e) {
-        EXPECT_NE(std::string(e.what()).find("scene.json: objects[0].cage: cannot open '/nonexistent/cage.obj'"),
+        EXPECT_NE(std::string(e.what()).find(
+                      "scene.json: objects[0].cage: cannot open '/nonexistent/cage.obj'"),
                   std::string::npos)
             << e.what();
     }

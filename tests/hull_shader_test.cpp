@@ -25,8 +25,8 @@ TEST(HullShader, Pow2RoundsUpToAPowerOfTwo) {
 }
 
 TEST(HullShader, IntegerRoundsUpAndClamps) {
-    const QuadTessFactors f = quad(Partitioning::Integer, 1.2f, 63.01f, 1e-7f,
-                                   std::numeric_limits<float>::infinity());
+    const QuadTessFactors f =
+        quad(Partitioning::Integer, 1.2f, 63.01f, 1e-7f, std::numeric_limits<float>::infinity());
     EXPECT_EQ(f.edge[0], 2);
     EXPECT_EQ(f.edge[1], 64);
     EXPECT_EQ(f.edge[2], 1);
@@ -53,7 +53,8 @@ TEST(HullShader, InsideFactorsReduceTheOppositeEdges) {
     EXPECT_EQ(mn.inside[0], 4);
     EXPECT_EQ(mn.inside[1], 2);
     const float tri[3] = {3, 6, 9};
-    EXPECT_EQ(processTriFactors(tri, {Partitioning::FractionalEven, InsideReduction::Average}).inside, 6);
+    EXPECT_EQ(
+        processTriFactors(tri, {Partitioning::FractionalEven, InsideReduction::Average}).inside, 6);
 }
 
 TEST(HullShader, CullingFactorsPassThrough) {

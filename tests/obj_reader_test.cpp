@@ -64,9 +64,11 @@ TEST(ObjReader, NegativeIndicesAreRelative) {
 }
 
 TEST(ObjReader, ErrorsNameFileLineAndColumn) {
-    EXPECT_NE(errorOf("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 7\n").find("cage.obj: line 4, column 7: vertex index 7 out of range"),
+    EXPECT_NE(errorOf("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 7\n")
+                  .find("cage.obj: line 4, column 7: vertex index 7 out of range"),
               std::string::npos);
-    EXPECT_NE(errorOf("v 0 zero 0\n").find("line 1, column 5: expected a number"), std::string::npos);
+    EXPECT_NE(errorOf("v 0 zero 0\n").find("line 1, column 5: expected a number"),
+              std::string::npos);
     EXPECT_NE(errorOf("v 0 0 nan\n").find("line 1"), std::string::npos);
     EXPECT_NE(errorOf("v 0 0 1e60\n").find("line 1"), std::string::npos);
     EXPECT_NE(errorOf("v 0 0\n").find("needs 3 coordinates"), std::string::npos);
@@ -75,23 +77,28 @@ TEST(ObjReader, ErrorsNameFileLineAndColumn) {
     EXPECT_NE(errorOf("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\nt corner 1/1/0 9 1.0\n")
                   .find("line 5, column 16: tag vertex index 9 out of range"),
               std::string::npos);
-    EXPECT_NE(errorOf("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\nt hole 1/0/0 4\n").find("tag face index 4"),
-              std::string::npos);
-    EXPECT_NE(errorOf("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\nt crease 2/1/0 0\n").find("declares 3 values"),
-              std::string::npos);
-    EXPECT_NE(errorOf("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\nt crease 2/1/0 0 1 -1\n").find("sharpness"),
-              std::string::npos);
+    EXPECT_NE(
+        errorOf("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\nt hole 1/0/0 4\n").find("tag face index 4"),
+        std::string::npos);
+    EXPECT_NE(
+        errorOf("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\nt crease 2/1/0 0\n").find("declares 3 values"),
+        std::string::npos);
+    EXPECT_NE(
+        errorOf("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\nt crease 2/1/0 0 1 -1\n").find("sharpness"),
+        std::string::npos);
 }
 
 TEST(ObjReader, RejectsEmptyAndBrokenMeshes) {
     EXPECT_NE(errorOf("").find("no vertices"), std::string::npos);
     EXPECT_NE(errorOf("v 0 0 0\n").find("no faces"), std::string::npos);
-    EXPECT_NE(errorOf("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 2\n").find("repeats vertex"), std::string::npos);
+    EXPECT_NE(errorOf("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 2\n").find("repeats vertex"),
+              std::string::npos);
 }
 
 TEST(ObjReader, NonManifoldEdgesAreAcceptedWithAWarning) {
     // OpenSubdiv handles them (catmark_fan has one), so the reader warns instead of failing.
-    const Cage cage = parseObjCage("v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 -1 0\nf 1 2 3\nf 1 2 4\n", "c.obj");
+    const Cage cage =
+        parseObjCage("v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 -1 0\nf 1 2 3\nf 1 2 4\n", "c.obj");
     ASSERT_EQ(cage.warnings.size(), 1u);
     EXPECT_NE(cage.warnings[0].find("non-manifold edge 1-2"), std::string::npos);
 }

@@ -86,14 +86,17 @@ TEST(SceneReader, SyntaxErrorsGiveLineAndColumn) {
 }
 
 TEST(SceneReader, FieldErrorsNameTheField) {
-    EXPECT_NE(errorOf(R"({"objects": [{"cage": "a.obj", "colour": 1}]})").find("objects[0].colour: unknown key"),
+    EXPECT_NE(errorOf(R"({"objects": [{"cage": "a.obj", "colour": 1}]})")
+                  .find("objects[0].colour: unknown key"),
               std::string::npos);
-    EXPECT_NE(errorOf(R"({"camara": {}, "objects": [{"cage": "a.obj"}]})").find("camara: unknown key"),
-              std::string::npos);
+    EXPECT_NE(
+        errorOf(R"({"camara": {}, "objects": [{"cage": "a.obj"}]})").find("camara: unknown key"),
+        std::string::npos);
     EXPECT_NE(errorOf(R"({"film": {"width": "wide"}, "objects": [{"cage": "a.obj"}]})")
                   .find("film.width: expected an integer, found string"),
               std::string::npos);
-    EXPECT_NE(errorOf(R"({"film": {"width": 0}, "objects": [{"cage": "a.obj"}]})").find("film.width: value 0 is outside"),
+    EXPECT_NE(errorOf(R"({"film": {"width": 0}, "objects": [{"cage": "a.obj"}]})")
+                  .find("film.width: value 0 is outside"),
               std::string::npos);
     EXPECT_NE(errorOf(R"({"lens": {"aperture_radius": -1}, "objects": [{"cage": "a.obj"}]})")
                   .find("lens.aperture_radius"),
@@ -104,20 +107,26 @@ TEST(SceneReader, FieldErrorsNameTheField) {
     EXPECT_NE(errorOf(R"({"camera": {"position": [0, 0]}, "objects": [{"cage": "a.obj"}]})")
                   .find("camera.position: expected an array of 3 numbers"),
               std::string::npos);
-    EXPECT_NE(errorOf(R"({"camera": {"position": [0, 0, 0], "look_at": [0, 0, 0]}, "objects": [{"cage": "a.obj"}]})")
-                  .find("camera.look_at"),
-              std::string::npos);
+    EXPECT_NE(
+        errorOf(
+            R"({"camera": {"position": [0, 0, 0], "look_at": [0, 0, 0]}, "objects": [{"cage": "a.obj"}]})")
+            .find("camera.look_at"),
+        std::string::npos);
     EXPECT_NE(errorOf(R"({"objects": [{"cage": "a.obj", "material": {"opacity": 2}}]})")
                   .find("objects[0].material.opacity"),
               std::string::npos);
-    EXPECT_NE(errorOf(R"({"objects": [{"cage": "a.obj", "scheme": "doo-sabin"}]})").find("objects[0].scheme"),
+    EXPECT_NE(errorOf(R"({"objects": [{"cage": "a.obj", "scheme": "doo-sabin"}]})")
+                  .find("objects[0].scheme"),
               std::string::npos);
-    EXPECT_NE(errorOf(R"({"tessellation": {"partitioning": "odd"}, "objects": [{"cage": "a.obj"}]})")
-                  .find("tessellation.partitioning: unknown partitioning 'odd'"),
+    EXPECT_NE(
+        errorOf(R"({"tessellation": {"partitioning": "odd"}, "objects": [{"cage": "a.obj"}]})")
+            .find("tessellation.partitioning: unknown partitioning 'odd'"),
+        std::string::npos);
+    EXPECT_NE(
+        errorOf(R"({"objects": [{"name": "x"}]})").find("objects[0].cage: missing required string"),
+        std::string::npos);
+    EXPECT_NE(errorOf(R"({"objects": []})").find("objects: the scene has no objects"),
               std::string::npos);
-    EXPECT_NE(errorOf(R"({"objects": [{"name": "x"}]})").find("objects[0].cage: missing required string"),
-              std::string::npos);
-    EXPECT_NE(errorOf(R"({"objects": []})").find("objects: the scene has no objects"), std::string::npos);
     EXPECT_NE(errorOf(R"({})").find("objects: missing"), std::string::npos);
     EXPECT_NE(errorOf(R"([1, 2])").find("expected an object"), std::string::npos);
     EXPECT_NE(errorOf(R"({"shutter": {"open": 0.8, "close": 0.2}, "objects": [{"cage": "a.obj"}]})")
@@ -129,12 +138,14 @@ TEST(SceneReader, FilmOverTheMemoryBudgetIsRefusedBeforeAllocating) {
     SceneLimits limits;
     limits.memoryBudgetBytes = 1 << 20;
     try {
-        parseScene(R"({"film": {"width": 1024, "height": 1024, "spp": 64}, "objects": [{"cage": "a.obj"}]})",
-                   "scene.json", "", limits);
+        parseScene(
+            R"({"film": {"width": 1024, "height": 1024, "spp": 64}, "objects": [{"cage": "a.obj"}]})",
+            "scene.json", "", limits);
         FAIL() << "no error";
     } catch (const InputError& e) {
-        EXPECT_NE(std::string(e.what()).find("film.spp: film of 1024x1024 at 64 spp needs 2048 MiB"),
-                  std::string::npos)
+        EXPECT_NE(
+            std::string(e.what()).find("film.spp: film of 1024x1024 at 64 spp needs 2048 MiB"),
+            std::string::npos)
             << e.what();
     }
 }

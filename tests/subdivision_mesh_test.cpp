@@ -9,8 +9,8 @@
 #include <random>
 
 #include "pipeline/core/error.h"
-#include "tests/test_paths.h"
 #include "tessellator/front_end.h"
+#include "tests/test_paths.h"
 
 namespace patchsim {
 namespace {
@@ -34,7 +34,7 @@ struct FarPoint {
 };
 
 class FarEvaluator {
-public:
+  public:
     explicit FarEvaluator(const Cage& cage) {
         osd::Far::TopologyDescriptor desc;
         desc.numVertices = cage.vertexCount();
@@ -51,7 +51,8 @@ public:
         table_.reset(osd::Far::PatchTableFactory::Create(*refiner_, options));
         const int refined = refiner_->GetNumVerticesTotal();
         points_.resize(std::size_t(refined + table_->GetNumLocalPoints()));
-        for (int i = 0; i < cage.vertexCount(); ++i) points_[std::size_t(i)].p = cage.positions[std::size_t(i)];
+        for (int i = 0; i < cage.vertexCount(); ++i)
+            points_[std::size_t(i)].p = cage.positions[std::size_t(i)];
         osd::Far::PrimvarRefiner primvar(*refiner_);
         FarPoint* src = points_.data();
         for (int level = 1; level <= refiner_->GetMaxLevel(); ++level) {
@@ -75,7 +76,7 @@ public:
         return p;
     }
 
-private:
+  private:
     std::unique_ptr<osd::Far::TopologyRefiner> refiner_;
     std::unique_ptr<osd::Far::PatchTable> table_;
     std::unique_ptr<osd::Far::PatchMap> map_;
@@ -115,7 +116,8 @@ TEST(SubdivisionMesh, BilinearSchemeIsBilinearInterpolation) {
             for (float v : {0.0f, 0.7f, 1.0f}) {
                 const Vec3 expected = (1 - u) * (1 - v) * c[0] + u * (1 - v) * c[1] + u * v * c[2] +
                                       (1 - u) * v * c[3];
-                EXPECT_LT(glm::length(evaluateLimit(mesh, cage.positions, face, u, v) - expected), 1e-5f);
+                EXPECT_LT(glm::length(evaluateLimit(mesh, cage.positions, face, u, v) - expected),
+                          1e-5f);
             }
         }
     }
@@ -142,7 +144,8 @@ TEST(SubdivisionMesh, CatmarkLimitOfARegularVertexMatchesTheLimitMask) {
             ++diagonalCount;
         }
         ASSERT_EQ(edgeCount, 4);
-        const Vec3 expected = (16.0f * cage.positions[std::size_t(v)] + 4.0f * edgeSum + diagonalSum) / 36.0f;
+        const Vec3 expected =
+            (16.0f * cage.positions[std::size_t(v)] + 4.0f * edgeSum + diagonalSum) / 36.0f;
         EXPECT_LT(glm::length(evaluateLimit(mesh, cage.positions, face, 0, 0) - expected), 1e-5f);
     }
 }

@@ -1,8 +1,9 @@
 #include "tests/test_paths.h"
 
+#include <unistd.h>
+
 #include <algorithm>
 #include <filesystem>
-#include <unistd.h>
 
 namespace patchsim::test {
 
@@ -12,7 +13,9 @@ std::string sourcePath(const std::string& relative) {
     return (fs::path(PATCHSIM_SOURCE_DIR) / relative).string();
 }
 
-std::string sharedModelsDir() { return PATCHSIM_SHARED_MODELS_DIR; }
+std::string sharedModelsDir() {
+    return PATCHSIM_SHARED_MODELS_DIR;
+}
 
 static std::vector<std::string> filesWithExtension(const std::string& dir, const std::string& ext) {
     std::vector<std::string> files;
@@ -23,11 +26,16 @@ static std::vector<std::string> filesWithExtension(const std::string& dir, const
     return files;
 }
 
-std::vector<std::string> sharedModelFiles() { return filesWithExtension(sharedModelsDir(), ".obj"); }
-std::vector<std::string> sceneFiles() { return filesWithExtension(sourcePath("scenes"), ".json"); }
+std::vector<std::string> sharedModelFiles() {
+    return filesWithExtension(sharedModelsDir(), ".obj");
+}
+std::vector<std::string> sceneFiles() {
+    return filesWithExtension(sourcePath("scenes"), ".json");
+}
 
 std::string temporaryDirectory() {
-    const fs::path dir = fs::temp_directory_path() / ("patchsim-test-" + std::to_string(::getpid()));
+    const fs::path dir =
+        fs::temp_directory_path() / ("patchsim-test-" + std::to_string(::getpid()));
     fs::create_directories(dir);
     return dir.string();
 }

@@ -26,17 +26,20 @@ SceneDesc loadScene(const CommonOptions& common) {
     SceneLimits limits;
     limits.memoryBudgetBytes = common.memoryBudgetMiB << 20;
     if (common.scene.empty()) return defaultScene();
-    return readSceneFile(common.scene, limits);
+    return readSceneOrCage(common.scene, limits);
 }
 
 void addCommonOptions(CLI::App& cmd, CommonOptions& common, bool effects) {
-    cmd.add_option("scene", common.scene, "Scene JSON file (default: the built-in scene)");
-    cmd.add_option("--threads", common.threads, "Worker threads (0: all cores)")->check(CLI::NonNegativeNumber);
+    cmd.add_option("scene", common.scene,
+                   "Scene JSON file, or an OBJ cage to view alone (default: the built-in scene)");
+    cmd.add_option("--threads", common.threads, "Worker threads (0: all cores)")
+        ->check(CLI::NonNegativeNumber);
     cmd.add_option("--memory-budget-mib", common.memoryBudgetMiB,
                    "Largest film the scene may ask for, in MiB of per-sample state");
     if (effects) {
         cmd.add_flag("--no-motion", common.overrides.disableMotion, "Do not simulate motion blur");
-        cmd.add_flag("--no-defocus", common.overrides.disableDefocus, "Do not simulate defocus blur");
+        cmd.add_flag("--no-defocus", common.overrides.disableDefocus,
+                     "Do not simulate defocus blur");
         cmd.add_flag("--no-transparency", common.overrides.disableTransparency,
                      "Treat every surface as opaque");
     }
@@ -61,9 +64,8 @@ int runTessellate(const CommonOptions& common, const std::string& output, float 
     options.time = time;
     options.threads = common.threads;
     TessellationSummary summary;
-    writeFileAtomically(output, [&](std::ostream& out) {
-        summary = writeTessellationObj(frontEnd, options, out);
-    });
+    writeFileAtomically(
+        output, [&](std::ostream& out) { summary = writeTessellationObj(frontEnd, options, out); });
     std::cout << "wrote " << output << ": " << summary.patches << " patches, " << summary.vertices
               << " vertices, " << summary.triangles << " triangles at t=" << time << "\n";
     StatsContext context{"tessellate", frontEnd.scene().path, {{"time", std::to_string(time)}}};
@@ -75,19 +77,22 @@ int runTessellate(const CommonOptions& common, const std::string& output, float 
 }  // namespace
 
 int main(int argc, char** argv) {
-    CLI::App app{"patchsim: a cycle-approximate D3D11-style pipeline with a patch rasterizer for "
-                 "motion and defocus blur (US 8,791,945)"};
+    CLI::App app{
+        "patchsim: a cycle-approximate D3D11-style pipeline with a patch rasterizer for "
+        "motion and defocus blur (US 8,791,945)"};
     app.require_subcommand(0, 1);
 
     CommonOptions infoOptions;
-    CLI::App* info = app.add_subcommand("info", "Print a scene's patches, triangles, effects and mode");
+    CLI::App* info =
+        app.add_subcommand("info", "Print a scene's patches, triangles, effects and mode");
     addCommonOptions(*info, infoOptions, /*effects=*/true);
 
     CommonOptions tessOptions;
     std::string tessOutput = "tessellation.obj", tessStats;
     float tessTime = 0.0f;
     bool tessQuiet = false;
-    CLI::App* tess = app.add_subcommand("tessellate", "Run IA, VS, HS, TS and DS; write the mesh as OBJ");
+    CLI::App* tess =
+        app.add_subcommand("tessellate", "Run IA, VS, HS, TS and DS; write the mesh as OBJ");
     addCommonOptions(*tess, tessOptions, /*effects=*/false);
     tess->add_option("-o,--output", tessOutput, "Output OBJ file");
     tess->add_option("-t,--time", tessTime, "Shutter time of the written positions")

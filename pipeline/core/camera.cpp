@@ -20,7 +20,8 @@ Camera::Camera(const CameraDesc& desc, const ShutterDesc& shutter, int width, in
       height_(height) {
     const CameraKey keys[2] = {blend(desc.open, desc.close, shutter.open),
                                blend(desc.open, desc.close, shutter.close)};
-    for (int i = 0; i < 2; ++i) view_[i] = glm::lookAt(keys[i].position, keys[i].lookAt, keys[i].up);
+    for (int i = 0; i < 2; ++i)
+        view_[i] = glm::lookAt(keys[i].position, keys[i].lookAt, keys[i].up);
     moves_ = view_[0] != view_[1];
 }
 

@@ -15,7 +15,7 @@
 namespace patchsim {
 
 class Camera {
-public:
+  public:
     Camera(const CameraDesc& desc, const ShutterDesc& shutter, int width, int height);
 
     const Mat4& worldToCamera(ShutterEnd end) const { return view_[int(end)]; }
@@ -33,7 +33,7 @@ public:
     int width() const { return width_; }
     int height() const { return height_; }
 
-private:
+  private:
     Mat4 view_[2];
     float tanHalfFovY_;
     float aspect_;

@@ -32,16 +32,16 @@ struct CounterInfo {
 using CounterValues = std::map<std::string, std::int64_t>;
 
 class CounterTotals {
-public:
+  public:
     void merge(const CounterInfo& info, std::int64_t value);
 
-private:
+  private:
     friend class CounterRegistry;
     CounterValues values_;
 };
 
 class CounterRegistry {
-public:
+  public:
     using FlushFunction = void (*)(CounterTotals&);
 
     static CounterRegistry& instance();
@@ -55,7 +55,7 @@ public:
     void reset();
     std::vector<CounterInfo> infos() const;
 
-private:
+  private:
     mutable std::mutex mutex_;
     std::vector<CounterInfo> infos_;
     std::vector<FlushFunction> flushes_;
@@ -68,17 +68,19 @@ struct CounterRegistration {
     }
 };
 
-inline void flushThreadCounters() { CounterRegistry::instance().flushThread(); }
+inline void flushThreadCounters() {
+    CounterRegistry::instance().flushThread();
+}
 
 }  // namespace patchsim
 
-#define PATCHSIM_COUNTER_IMPL(NAME, UNIT, DEFINITION, KIND, VAR)                        \
-    static thread_local std::int64_t VAR = 0;                                           \
-    static ::patchsim::CounterRegistration VAR##Registration(                           \
-        ::patchsim::CounterInfo{NAME, UNIT, DEFINITION, KIND},                          \
-        [](::patchsim::CounterTotals& totals) {                                         \
-            totals.merge(::patchsim::CounterInfo{NAME, UNIT, DEFINITION, KIND}, VAR);   \
-            VAR = 0;                                                                    \
+#define PATCHSIM_COUNTER_IMPL(NAME, UNIT, DEFINITION, KIND, VAR)                      \
+    static thread_local std::int64_t VAR = 0;                                         \
+    static ::patchsim::CounterRegistration VAR##Registration(                         \
+        ::patchsim::CounterInfo{NAME, UNIT, DEFINITION, KIND},                        \
+        [](::patchsim::CounterTotals& totals) {                                       \
+            totals.merge(::patchsim::CounterInfo{NAME, UNIT, DEFINITION, KIND}, VAR); \
+            VAR = 0;                                                                  \
         })
 
 // A counter summed over threads.

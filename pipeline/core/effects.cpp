@@ -6,7 +6,8 @@ Effects detectEffects(const SceneDesc& scene, bool geometryMoves, bool cameraMov
     Effects e;
     e.motion = (geometryMoves || cameraMoves) && scene.shutter.close > scene.shutter.open;
     e.defocus = scene.lens.apertureRadius > 0.0f;
-    for (const ObjectDesc& o : scene.objects) e.transparency = e.transparency || o.material.opacity < 1.0f;
+    for (const ObjectDesc& o : scene.objects)
+        e.transparency = e.transparency || o.material.opacity < 1.0f;
     return e;
 }
 

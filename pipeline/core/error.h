@@ -8,13 +8,13 @@
 namespace patchsim {
 
 class InputError : public std::runtime_error {
-public:
+  public:
     InputError(std::string file, std::string field, const std::string& message);
 
     const std::string& file() const { return file_; }
     const std::string& field() const { return field_; }
 
-private:
+  private:
     std::string file_;
     std::string field_;
 };

@@ -30,7 +30,7 @@ std::vector<Token> tokenize(std::string_view line) {
 }
 
 class ObjParser {
-public:
+  public:
     ObjParser(std::string_view text, const std::string& path) : text_(text), path_(path) {}
 
     Cage parse() {
@@ -46,10 +46,10 @@ public:
         return std::move(cage_);
     }
 
-private:
+  private:
     [[noreturn]] void fail(int column, const std::string& message) const {
-        throw InputError(path_, "line " + std::to_string(line_) + ", column " +
-                                    std::to_string(column), message);
+        throw InputError(
+            path_, "line " + std::to_string(line_) + ", column " + std::to_string(column), message);
     }
 
     float number(const Token& t) const {
@@ -101,9 +101,8 @@ private:
             long index = integer(ref, tokens[i].column);
             if (index < 0) index = vertexCount + index + 1;  // relative reference
             if (index < 1 || index > vertexCount) {
-                fail(tokens[i].column, "vertex index " + std::string(ref) +
-                                           " out of range (" + std::to_string(vertexCount) +
-                                           " vertices so far)");
+                fail(tokens[i].column, "vertex index " + std::string(ref) + " out of range (" +
+                                           std::to_string(vertexCount) + " vertices so far)");
             }
             cage_.faceVertices.push_back(static_cast<int>(index - 1));
         }
@@ -116,7 +115,8 @@ private:
         const std::string name(tokens[1].text);
         const Token& counts = tokens[2];
         int nint = 0, nfloat = 0, nstring = 0;
-        if (std::sscanf(std::string(counts.text).c_str(), "%d/%d/%d", &nint, &nfloat, &nstring) != 3 ||
+        if (std::sscanf(std::string(counts.text).c_str(), "%d/%d/%d", &nint, &nfloat, &nstring) !=
+                3 ||
             nint < 0 || nfloat < 0 || nstring < 0)
             fail(counts.column, "tag counts must be nint/nfloat/nstring");
         if (tokens.size() != 3u + std::size_t(nint + nfloat + nstring))
@@ -132,7 +132,8 @@ private:
             ints.push_back(static_cast<int>(integer(t.text, t.column)));
             intColumns.push_back(t.column);
         }
-        for (int i = 0; i < nfloat; ++i) floats.push_back(number(tokens[3 + std::size_t(nint + i)]));
+        for (int i = 0; i < nfloat; ++i)
+            floats.push_back(number(tokens[3 + std::size_t(nint + i)]));
         for (int i = 0; i < nstring; ++i)
             strings.emplace_back(tokens[3 + std::size_t(nint + nfloat + i)].text);
         applyTag(name, ints, intColumns, floats, strings, tokens[1].column);
@@ -176,7 +177,8 @@ private:
                 strings[0] == "chaikin" ? CreaseMethod::Chaikin : CreaseMethod::Uniform;
         } else if (name == "smoothtriangles") {
             cage_.smoothTriangles = ints.empty() ? true : ints[0] != 0;
-        } else if (name == "facevaryinginterpolateboundary" || name == "facevaryingpropagatecorners") {
+        } else if (name == "facevaryinginterpolateboundary" ||
+                   name == "facevaryingpropagatecorners") {
             // Face-varying data is not used by the simulator.
         } else if (name == "vertexedit" || name == "edgeedit" || name == "faceedit") {
             cage_.warnings.push_back(path_ + ": line " + std::to_string(line_) +
@@ -224,8 +226,9 @@ private:
             for (int i = 0; i < n; ++i) {
                 const int a = cage_.faceVertices[offset + std::size_t(i)];
                 const int b = cage_.faceVertices[offset + std::size_t((i + 1) % n)];
-                if (a == b) fail(1, "face " + std::to_string(f) + " repeats vertex " +
-                                        std::to_string(a + 1) + " (zero-length edge)");
+                if (a == b)
+                    fail(1, "face " + std::to_string(f) + " repeats vertex " +
+                                std::to_string(a + 1) + " (zero-length edge)");
                 auto [it, inserted] = directedEdges.emplace(std::make_pair(a, b), int(f));
                 if (!inserted && !warnedNonManifold) {
                     warnedNonManifold = true;

@@ -14,9 +14,12 @@ Mat4 TransformDesc::matrix() const {
 
 const char* schemeName(SubdivisionScheme s) {
     switch (s) {
-        case SubdivisionScheme::Catmark: return "catmark";
-        case SubdivisionScheme::Loop: return "loop";
-        case SubdivisionScheme::Bilinear: return "bilinear";
+        case SubdivisionScheme::Catmark:
+            return "catmark";
+        case SubdivisionScheme::Loop:
+            return "loop";
+        case SubdivisionScheme::Bilinear:
+            return "bilinear";
     }
     return "?";
 }

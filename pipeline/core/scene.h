@@ -55,9 +55,9 @@ struct FilmDesc {
 struct TessellationDesc {
     Partitioning partitioning = Partitioning::Integer;
     InsideReduction insideReduction = InsideReduction::Average;
-    float factor = 8.0f;              // used when targetEdgePixels is 0
-    float targetEdgePixels = 0.0f;    // > 0: adaptive factors
-    float maxFactor = 64.0f;          // cap on adaptive factors
+    float factor = 8.0f;            // used when targetEdgePixels is 0
+    float targetEdgePixels = 0.0f;  // > 0: adaptive factors
+    float maxFactor = 64.0f;        // cap on adaptive factors
 };
 
 struct TransformDesc {

@@ -7,6 +7,7 @@
 #include <set>
 
 #include "pipeline/core/error.h"
+#include "pipeline/core/obj_reader.h"
 #include "pipeline/core/text_file.h"
 
 namespace patchsim {
@@ -15,11 +16,13 @@ namespace {
 
 using Json = nlohmann::json;
 
-std::string typeName(const Json& j) { return j.type_name(); }
+std::string typeName(const Json& j) {
+    return j.type_name();
+}
 
 // One JSON object being read: every key must be consumed, or finish() reports the unknown one.
 class ObjectReader {
-public:
+  public:
     ObjectReader(const Json& json, std::string field, const std::string& file)
         : json_(json), field_(std::move(field)), file_(file) {
         if (!json_.is_object()) fail(field_, "expected an object, found " + typeName(json_));
@@ -68,11 +71,11 @@ public:
         if (!j) return fallback;
         if (!j->is_number_integer())
             fail(fieldName(key), "expected an integer, found " + typeName(*j));
-        const std::int64_t v = j->is_number_unsigned()
-                                   ? static_cast<std::int64_t>(std::min<std::uint64_t>(
-                                         j->get<std::uint64_t>(),
-                                         std::numeric_limits<std::int64_t>::max()))
-                                   : j->get<std::int64_t>();
+        const std::int64_t v =
+            j->is_number_unsigned()
+                ? static_cast<std::int64_t>(std::min<std::uint64_t>(
+                      j->get<std::uint64_t>(), std::numeric_limits<std::int64_t>::max()))
+                : j->get<std::int64_t>();
         if (v < lo || v > hi) {
             fail(fieldName(key), "value " + std::to_string(v) + " is outside [" +
                                      std::to_string(lo) + ", " + std::to_string(hi) + "]");
@@ -100,9 +103,8 @@ public:
             fail(field, "expected an array of 3 numbers, found " + typeName(*j));
         Vec3 v;
         for (int i = 0; i < 3; ++i)
-            v[i] = static_cast<float>(
-                checkNumber((*j)[static_cast<std::size_t>(i)],
-                            field + "[" + std::to_string(i) + "]", lo, hi));
+            v[i] = static_cast<float>(checkNumber((*j)[static_cast<std::size_t>(i)],
+                                                  field + "[" + std::to_string(i) + "]", lo, hi));
         return v;
     }
 
@@ -120,7 +122,7 @@ public:
 
     const std::string& file() const { return file_; }
 
-private:
+  private:
     static std::string formatNumber(double v) {
         char buffer[32];
         std::snprintf(buffer, sizeof buffer, "%g", v);
@@ -178,9 +180,8 @@ void readFilm(ObjectReader r, FilmDesc& f, const SceneLimits& limits) {
     f.width = static_cast<int>(r.integer("width", f.width, 1, 16384));
     f.height = static_cast<int>(r.integer("height", f.height, 1, 16384));
     f.samplesPerPixel = static_cast<int>(r.integer("spp", f.samplesPerPixel, 1, 4096));
-    f.seed = static_cast<std::uint64_t>(
-        r.integer("seed", static_cast<std::int64_t>(f.seed), 0,
-                  std::numeric_limits<std::int64_t>::max()));
+    f.seed = static_cast<std::uint64_t>(r.integer("seed", static_cast<std::int64_t>(f.seed), 0,
+                                                  std::numeric_limits<std::int64_t>::max()));
     r.finish();
     if (filmBytes(f) > limits.memoryBudgetBytes) {
         r.fail(r.fieldName("spp"),
@@ -198,10 +199,11 @@ void readTessellation(ObjectReader r, TessellationDesc& t) {
                "unknown partitioning '" + partitioning +
                    "' (integer, pow2, fractional_odd, fractional_even)");
     }
-    const std::string reduction = r.string("inside_reduction", insideReductionName(t.insideReduction));
+    const std::string reduction =
+        r.string("inside_reduction", insideReductionName(t.insideReduction));
     if (!parseInsideReduction(reduction, t.insideReduction))
-        r.fail(r.fieldName("inside_reduction"), "unknown reduction '" + reduction +
-                                                    "' (min, max, average)");
+        r.fail(r.fieldName("inside_reduction"),
+               "unknown reduction '" + reduction + "' (min, max, average)");
     // Any finite factor is accepted: the hull shader and tessellator apply D3D11's rules
     // (<= 0 culls, the rest is clamped and rounded per partitioning).
     t.factor = static_cast<float>(r.number("factor", t.factor, -kHuge, kHuge));
@@ -238,10 +240,14 @@ ObjectDesc readObject(ObjectReader r, const std::string& baseDir, std::size_t in
     const std::string cageClose = r.string("cage_close", "");
     if (!cageClose.empty()) o.cageClosePath = joinPath(baseDir, cageClose);
     const std::string scheme = r.string("scheme", schemeName(schemeFromCageName(cage)));
-    if (scheme == "catmark") o.scheme = SubdivisionScheme::Catmark;
-    else if (scheme == "loop") o.scheme = SubdivisionScheme::Loop;
-    else if (scheme == "bilinear") o.scheme = SubdivisionScheme::Bilinear;
-    else r.fail(r.fieldName("scheme"), "unknown scheme '" + scheme + "' (catmark, loop, bilinear)");
+    if (scheme == "catmark")
+        o.scheme = SubdivisionScheme::Catmark;
+    else if (scheme == "loop")
+        o.scheme = SubdivisionScheme::Loop;
+    else if (scheme == "bilinear")
+        o.scheme = SubdivisionScheme::Bilinear;
+    else
+        r.fail(r.fieldName("scheme"), "unknown scheme '" + scheme + "' (catmark, loop, bilinear)");
     if (auto open = r.object("open")) o.open = readTransform(*open, o.open);
     o.close = o.open;
     if (auto close = r.object("close")) o.close = readTransform(*close, o.open);
@@ -291,7 +297,8 @@ SceneDesc parseScene(std::string_view text, const std::string& path, const std::
     } catch (const Json::exception& e) {
         // Numbers beyond double range ("number overflow parsing '1e999'").
         std::string message = e.what();
-        if (auto pos = message.find(']'); pos != std::string::npos) message = message.substr(pos + 2);
+        if (auto pos = message.find(']'); pos != std::string::npos)
+            message = message.substr(pos + 2);
         throw InputError(path, "", "JSON " + message);
     }
     SceneDesc scene;
@@ -304,7 +311,8 @@ SceneDesc parseScene(std::string_view text, const std::string& path, const std::
     if (auto tess = root.object("tessellation")) readTessellation(*tess, scene.tessellation);
     const Json* objects = root.find("objects");
     if (!objects) root.fail("objects", "missing required array of objects");
-    if (!objects->is_array()) root.fail("objects", "expected an array, found " + typeName(*objects));
+    if (!objects->is_array())
+        root.fail("objects", "expected an array, found " + typeName(*objects));
     if (objects->empty()) root.fail("objects", "the scene has no objects");
     for (std::size_t i = 0; i < objects->size(); ++i) {
         scene.objects.push_back(readObject(
@@ -317,6 +325,38 @@ SceneDesc parseScene(std::string_view text, const std::string& path, const std::
 SceneDesc readSceneFile(const std::string& path, const SceneLimits& limits) {
     const std::string text = readTextFile(path);
     return parseScene(text, path, parentDirectory(path), limits);
+}
+
+SceneDesc sceneForCage(const std::string& objPath) {
+    const Cage cage = readObjCage(objPath);
+    Vec3 lo(std::numeric_limits<float>::max()), hi(-std::numeric_limits<float>::max());
+    for (const Vec3& p : cage.positions) {
+        lo = glm::min(lo, p);
+        hi = glm::max(hi, p);
+    }
+    const Vec3 centre = 0.5f * (lo + hi);
+    const float radius = std::max(0.5f * glm::length(hi - lo), 1e-3f);
+    SceneDesc scene;
+    scene.path = objPath;
+    scene.camera.fovYDegrees = 40.0f;
+    // Far enough that the bounding sphere fits the vertical field of view.
+    const float distance = radius / std::sin(glm::radians(scene.camera.fovYDegrees) * 0.5f);
+    scene.camera.open = {centre + Vec3(0, 0, distance), centre, {0, 1, 0}};
+    scene.camera.close = scene.camera.open;
+    scene.camera.nearPlane = std::max(1e-4f, 0.01f * radius);
+    scene.camera.farPlane = distance + 10 * radius;
+    scene.tessellation.factor = 4;
+    ObjectDesc object;
+    object.name = std::filesystem::path(objPath).stem().string();
+    object.cagePath = objPath;
+    object.scheme = schemeFromCageName(objPath);
+    scene.objects.push_back(object);
+    return scene;
+}
+
+SceneDesc readSceneOrCage(const std::string& path, const SceneLimits& limits) {
+    if (std::filesystem::path(path).extension() == ".obj") return sceneForCage(path);
+    return readSceneFile(path, limits);
 }
 
 SceneDesc defaultScene() {

@@ -21,6 +21,13 @@ SceneDesc readSceneFile(const std::string& path, const SceneLimits& limits = {})
 SceneDesc parseScene(std::string_view text, const std::string& path, const std::string& baseDir,
                      const SceneLimits& limits = {});
 
+// A scene around one cage (an .obj path given where a scene is expected): the cage at the
+// origin, static, framed by a camera on +z, integer factor 4.
+SceneDesc sceneForCage(const std::string& objPath);
+
+// A scene file, or a scene around a cage when `path` ends in ".obj".
+SceneDesc readSceneOrCage(const std::string& path, const SceneLimits& limits = {});
+
 // The built-in default scene (motion blur and defocus together), with built-in cages.
 SceneDesc defaultScene();
 

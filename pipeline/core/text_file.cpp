@@ -30,8 +30,7 @@ std::string readTextFile(const std::string& path, const std::string& referringFi
     return text.str();
 }
 
-void writeFileAtomically(const std::string& path,
-                         const std::function<void(std::ostream&)>& write) {
+void writeFileAtomically(const std::string& path, const std::function<void(std::ostream&)>& write) {
     namespace fs = std::filesystem;
     const std::string temporary = path + ".tmp-patchsim";
     try {

@@ -9,7 +9,8 @@ namespace patchsim {
 SceneInfo gatherSceneInfo(const FrontEnd& frontEnd, const EffectOverrides& overrides, int threads) {
     SceneInfo info;
     info.objects = frontEnd.objects().size();
-    for (const SceneObject& o : frontEnd.objects()) info.cageFaces += std::size_t(o.cage.faceCount());
+    for (const SceneObject& o : frontEnd.objects())
+        info.cageFaces += std::size_t(o.cage.faceCount());
     info.patches = frontEnd.patchCount();
     std::vector<std::uint64_t> points(info.patches), triangles(info.patches);
     std::vector<char> culled(info.patches);
@@ -29,7 +30,8 @@ SceneInfo gatherSceneInfo(const FrontEnd& frontEnd, const EffectOverrides& overr
         info.triangles += triangles[i];
         info.culledPatches += culled[i] ? 1 : 0;
     }
-    info.called = detectEffects(frontEnd.scene(), frontEnd.geometryMoves(), frontEnd.camera().moves());
+    info.called =
+        detectEffects(frontEnd.scene(), frontEnd.geometryMoves(), frontEnd.camera().moves());
     info.simulated = applyOverrides(info.called, overrides);
     return info;
 }

@@ -9,7 +9,8 @@ namespace patchsim {
 namespace {
 std::map<std::string, CounterInfo> infoByName() {
     std::map<std::string, CounterInfo> byName;
-    for (const CounterInfo& info : CounterRegistry::instance().infos()) byName.emplace(info.name, info);
+    for (const CounterInfo& info : CounterRegistry::instance().infos())
+        byName.emplace(info.name, info);
     return byName;
 }
 }  // namespace
@@ -26,8 +27,8 @@ void printCounterTable(std::ostream& out, const CounterValues& values) {
             out << stage << "\n";
         }
         const auto it = infos.find(name);
-        out << "  " << std::left << std::setw(int(width) + 2) << name << std::right
-            << std::setw(16) << value << "  " << (it != infos.end() ? it->second.unit : "") << "\n";
+        out << "  " << std::left << std::setw(int(width) + 2) << name << std::right << std::setw(16)
+            << value << "  " << (it != infos.end() ? it->second.unit : "") << "\n";
     }
 }
 

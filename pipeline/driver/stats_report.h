@@ -12,8 +12,8 @@ namespace patchsim {
 inline constexpr int kStatsSchemaVersion = 1;
 
 struct StatsContext {
-    std::string command;  // "tessellate", "info", ...
-    std::string scene;    // scene path
+    std::string command;                                     // "tessellate", "info", ...
+    std::string scene;                                       // scene path
     std::vector<std::pair<std::string, std::string>> facts;  // extra key/value lines
 };
 

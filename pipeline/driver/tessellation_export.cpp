@@ -21,7 +21,8 @@ WeldKey weldKey(const Vec3& a, const Vec3& b) {
 
 void writeVec(std::ostream& out, const char* tag, const Vec3& v) {
     char line[96];
-    std::snprintf(line, sizeof line, "%s %.7g %.7g %.7g\n", tag, double(v.x), double(v.y), double(v.z));
+    std::snprintf(line, sizeof line, "%s %.7g %.7g %.7g\n", tag, double(v.x), double(v.y),
+                  double(v.z));
     out << line;
 }
 
@@ -41,7 +42,8 @@ TessellationSummary writeTessellationObj(const FrontEnd& frontEnd, const Tessell
     TessellationSummary summary;
     summary.patches = count;
     const float t = options.time;
-    out << "# patchsim tessellation of " << frontEnd.scene().path << " at shutter time " << t << "\n";
+    out << "# patchsim tessellation of " << frontEnd.scene().path << " at shutter time " << t
+        << "\n";
     std::map<WeldKey, std::size_t> welded;
     int currentObject = -1;
     for (const TessellatedPatch& p : patches) {
