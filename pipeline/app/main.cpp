@@ -1,15 +1,20 @@
 // The patchsim command: one binary, one subcommand per job (docs/ARCHITECTURE.md lists them).
 
 #include <CLI/CLI.hpp>
+#include <cstdio>
 #include <filesystem>
 #include <iostream>
+#include <optional>
 
+#include "backend/image.h"
 #include "pipeline/core/error.h"
 #include "pipeline/core/scene_reader.h"
 #include "pipeline/core/text_file.h"
+#include "pipeline/driver/render.h"
 #include "pipeline/driver/scene_info.h"
 #include "pipeline/driver/stats_report.h"
 #include "pipeline/driver/tessellation_export.h"
+#include "rasterizer/tile_test_verifier.h"
 
 namespace {
 
@@ -74,6 +79,101 @@ int runTessellate(const CommonOptions& common, const std::string& output, float 
     return 0;
 }
 
+struct RenderCommand {
+    CommonOptions common;
+    std::string outputDir = "out";
+    std::string method = "patch";
+    // Rasterizer options given on the command line override the scene's.
+    std::optional<int> tileSize, leafSize, boundsLevel, maxTrianglesPerGroup;
+    std::optional<std::string> branchMethod;
+    bool noTimeRefinement = false, noZCulling = false, quiet = false;
+};
+
+void addRenderOptions(CLI::App& cmd, RenderCommand& r) {
+    addCommonOptions(cmd, r.common, /*effects=*/true);
+    cmd.add_option("-o,--output", r.outputDir,
+                   "Output folder for image.exr, image.png, stats.json");
+    cmd.add_option("--method", r.method, "Visibility method")
+        ->check(CLI::IsMember({"patch", "reference"}));
+    cmd.add_option("--tile-size", r.tileSize, "Tile side in pixels");
+    cmd.add_option("--leaf-size", r.leafSize, "Triangles per hierarchy leaf");
+    cmd.add_option("--bounds-level", r.boundsLevel,
+                   "Hierarchy level whose boxes give the screen bounds");
+    cmd.add_option("--branch-method", r.branchMethod, "root, first-split or bitmask");
+    cmd.add_option("--max-triangles-per-group", r.maxTrianglesPerGroup,
+                   "Split larger patches into groups");
+    cmd.add_flag("--no-time-refinement", r.noTimeRefinement,
+                 "Do not narrow time intervals at leaves");
+    cmd.add_flag("--no-z-culling", r.noZCulling, "Do not cull against the z-buffer");
+    cmd.add_flag("-q,--quiet", r.quiet, "Do not print the counter table");
+}
+
+int runRender(const RenderCommand& r) {
+    SceneDesc scene = loadScene(r.common);
+    RasterizerOptions& o = scene.rasterizer;
+    if (r.tileSize) o.tileSize = *r.tileSize;
+    if (r.leafSize) o.leafSize = *r.leafSize;
+    if (r.boundsLevel) o.boundsLevel = *r.boundsLevel;
+    if (r.maxTrianglesPerGroup) o.maxTrianglesPerGroup = *r.maxTrianglesPerGroup;
+    if (r.branchMethod && !parseBranchMethod(*r.branchMethod, o.branchMethod))
+        throw InputError("command line", "--branch-method",
+                         "unknown method '" + *r.branchMethod + "'");
+    if (r.noTimeRefinement) o.timeRefinement = false;
+    if (r.noZCulling) o.zCulling = false;
+    o.validate("command line");
+    RenderOptions options;
+    options.method =
+        r.method == "reference" ? VisibilityMethod::Reference : VisibilityMethod::Patch;
+    options.overrides = r.common.overrides;
+    options.threads = r.common.threads;
+    CounterRegistry::instance().reset();
+    const RenderResult result = renderScene(scene, options);
+    const CounterValues counters = CounterRegistry::instance().snapshot();
+    std::filesystem::create_directories(r.outputDir);
+    writeExr(result.image, r.outputDir + "/image.exr");
+    writePng(result.image, r.outputDir + "/image.png");
+    const std::int64_t tested = counters.at("RS/Samples tested");
+    const double ste = tested ? double(counters.at("RS/Visibility samples")) / double(tested) : 0.0;
+    StatsContext context{"render", scene.path, {}};
+    context.facts = {{"method", visibilityMethodName(options.method)},
+                     {"mode", describeMode(result.effects)},
+                     {"width", std::to_string(scene.film.width)},
+                     {"height", std::to_string(scene.film.height)},
+                     {"spp", std::to_string(scene.film.samplesPerPixel)},
+                     {"patches", std::to_string(result.patches)},
+                     {"triangles", std::to_string(result.triangles)},
+                     {"sample test efficiency", std::to_string(ste)},
+                     {"tile size", std::to_string(o.tileSize)},
+                     {"leaf size", std::to_string(o.leafSize)},
+                     {"branch method", branchMethodName(o.branchMethod)},
+                     {"time refinement", o.timeRefinement ? "on" : "off"},
+                     {"z culling", o.zCulling ? "on" : "off"}};
+    writeStats(r.outputDir + "/stats.json", context);
+    if (!r.quiet) printCounterTable(std::cout, counters);
+    std::cout << "rendered " << scene.path << " (" << describeMode(result.effects) << ") with the "
+              << visibilityMethodName(options.method) << " method: " << result.patches
+              << " patches, " << result.triangles << " triangles; front end "
+              << result.frontEndSeconds << " s, visibility " << result.visibilitySeconds
+              << " s, shading " << result.shadingSeconds << " s; STE " << ste << "\nwrote "
+              << r.outputDir << "/image.exr, image.png, stats.json\n";
+    return 0;
+}
+
+int runVerifyTiles(int cases, std::uint64_t seed) {
+    const std::vector<TileTestReport> reports = verifyTileTests(cases, seed);
+    bool anyFalseReject = false;
+    for (const TileTestReport& r : reports) {
+        char line[256];
+        std::snprintf(
+            line, sizeof line, "%s: cases %lld, false rejects %lld, false accepts %lld (%.2f%%)",
+            r.name.c_str(), static_cast<long long>(r.cases), static_cast<long long>(r.falseRejects),
+            static_cast<long long>(r.falseAccepts), r.falseAcceptPercent());
+        std::cout << line << "\n";
+        anyFalseReject = anyFalseReject || r.falseRejects > 0;
+    }
+    return anyFalseReject ? 1 : 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -100,6 +200,19 @@ int main(int argc, char** argv) {
     tess->add_option("--stats", tessStats, "Also write the counters as stats JSON");
     tess->add_flag("-q,--quiet", tessQuiet, "Do not print the counter table");
 
+    RenderCommand renderOptions;
+    CLI::App* render =
+        app.add_subcommand("render", "Render a frame: image.exr, image.png and stats.json");
+    addRenderOptions(*render, renderOptions);
+
+    int verifyCases = 2000;
+    std::uint64_t verifySeed = 1;
+    CLI::App* verify =
+        app.add_subcommand("verify-tiles", "Check the tile tests against ground truth");
+    verify->add_option("--cases", verifyCases, "Random cases per lens model")
+        ->check(CLI::PositiveNumber);
+    verify->add_option("--seed", verifySeed, "Seed of the random cases");
+
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {
@@ -108,11 +221,11 @@ int main(int argc, char** argv) {
     try {
         if (*info) return runInfo(infoOptions);
         if (*tess) return runTessellate(tessOptions, tessOutput, tessTime, tessStats, tessQuiet);
-        // No subcommand: the main job on the built-in default scene.
-        std::filesystem::create_directories("out");
-        CommonOptions defaults;
-        runInfo(defaults);
-        return runTessellate(defaults, "out/default.obj", 0.5f, "out/stats.json", false);
+        if (*render) return runRender(renderOptions);
+        if (*verify) return runVerifyTiles(verifyCases, verifySeed);
+        // No subcommand: the main job, a render of the built-in default scene into out/.
+        const RenderCommand defaults;
+        return runRender(defaults);
     } catch (const InputError& e) {
         std::cerr << "patchsim: error: " << e.what() << "\n";
         return 2;

@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "pipeline/core/math.h"
+#include "pipeline/core/rasterizer_options.h"
 #include "pipeline/core/tessellation_modes.h"
 
 namespace patchsim {
@@ -92,6 +93,7 @@ struct SceneDesc {
     ShutterDesc shutter;
     FilmDesc film;
     TessellationDesc tessellation;
+    RasterizerOptions rasterizer;
     std::vector<ObjectDesc> objects;
 };
 

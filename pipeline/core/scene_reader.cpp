@@ -213,6 +213,32 @@ void readTessellation(ObjectReader r, TessellationDesc& t) {
     r.finish();
 }
 
+void readRasterizer(ObjectReader r, RasterizerOptions& o) {
+    o.tileSize = int(r.integer("tile_size", o.tileSize, 1, 256));
+    o.leafSize = int(r.integer("leaf_size", o.leafSize, 1, 64));
+    o.boundsLevel = int(r.integer("bounds_level", o.boundsLevel, 0, 6));
+    const std::string branch = r.string("branch_method", branchMethodName(o.branchMethod));
+    if (!parseBranchMethod(branch, o.branchMethod))
+        r.fail(r.fieldName("branch_method"),
+               "unknown branch method '" + branch + "' (root, first-split, bitmask)");
+    if (const Json* j = r.find("time_refinement")) {
+        if (!j->is_boolean())
+            r.fail(r.fieldName("time_refinement"), "expected true or false, found " + typeName(*j));
+        o.timeRefinement = j->get<bool>();
+    }
+    if (const Json* j = r.find("z_culling")) {
+        if (!j->is_boolean())
+            r.fail(r.fieldName("z_culling"), "expected true or false, found " + typeName(*j));
+        o.zCulling = j->get<bool>();
+    }
+    o.maxTrianglesPerGroup =
+        int(r.integer("max_triangles_per_group", o.maxTrianglesPerGroup, 1, 4096));
+    o.scratchBudgetBytes = std::uint64_t(r.integer(
+        "scratch_budget_bytes", std::int64_t(o.scratchBudgetBytes), 64, std::int64_t(1) << 30));
+    r.finish();
+    o.validate(r.file());
+}
+
 TransformDesc readTransform(ObjectReader r, const TransformDesc& fallback) {
     TransformDesc t;
     t.translate = r.vec3("translate", fallback.translate);
@@ -309,6 +335,7 @@ SceneDesc parseScene(std::string_view text, const std::string& path, const std::
     if (auto shutter = root.object("shutter")) readShutter(*shutter, scene.shutter);
     if (auto film = root.object("film")) readFilm(*film, scene.film, limits);
     if (auto tess = root.object("tessellation")) readTessellation(*tess, scene.tessellation);
+    if (auto raster = root.object("rasterizer")) readRasterizer(*raster, scene.rasterizer);
     const Json* objects = root.find("objects");
     if (!objects) root.fail("objects", "missing required array of objects");
     if (!objects->is_array())

@@ -1,0 +1,63 @@
+#include "backend/image.h"
+
+#include <OpenImageIO/imageio.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+
+#include "pipeline/core/error.h"
+
+namespace patchsim {
+
+namespace {
+
+void writeImage(const std::string& path, const std::string& temporary, const OIIO::ImageSpec& spec,
+                const void* pixels) {
+    auto out = OIIO::ImageOutput::create(path);  // format from the final name's extension
+    if (!out) throw InputError(path, "", "no image writer for this file type");
+    if (!out->open(temporary, spec) || !out->write_image(spec.format, pixels) || !out->close()) {
+        std::error_code ec;
+        std::filesystem::remove(temporary, ec);
+        throw InputError(path, "", "cannot write image: " + out->geterror());
+    }
+    std::filesystem::rename(temporary, path);
+}
+
+}  // namespace
+
+float linearToSrgb(float v) {
+    v = std::clamp(v, 0.0f, 1.0f);
+    return v <= 0.0031308f ? 12.92f * v : 1.055f * std::pow(v, 1.0f / 2.4f) - 0.055f;
+}
+
+void writeExr(const Image& image, const std::string& path) {
+    OIIO::ImageSpec spec(image.width, image.height, 3, OIIO::TypeDesc::FLOAT);
+    spec.attribute("compression", "zip");
+    writeImage(path, path + ".tmp-patchsim.exr", spec, image.rgb.data());
+}
+
+void writePng(const Image& image, const std::string& path) {
+    std::vector<unsigned char> bytes(image.rgb.size());
+    for (std::size_t i = 0; i < bytes.size(); ++i)
+        bytes[i] = static_cast<unsigned char>(std::lround(linearToSrgb(image.rgb[i]) * 255.0f));
+    OIIO::ImageSpec spec(image.width, image.height, 3, OIIO::TypeDesc::UINT8);
+    writeImage(path, path + ".tmp-patchsim.png", spec, bytes.data());
+}
+
+Image readImage(const std::string& path) {
+    auto in = OIIO::ImageInput::open(path);
+    if (!in) throw InputError(path, "", "cannot read image: " + OIIO::geterror());
+    const OIIO::ImageSpec& spec = in->spec();
+    Image image(spec.width, spec.height);
+    std::vector<float> all(std::size_t(spec.width) * std::size_t(spec.height) *
+                           std::size_t(spec.nchannels));
+    in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, all.data());
+    for (std::size_t p = 0; p < std::size_t(spec.width) * std::size_t(spec.height); ++p)
+        for (int c = 0; c < 3; ++c)
+            image.rgb[p * 3 + std::size_t(c)] =
+                all[p * std::size_t(spec.nchannels) + std::size_t(std::min(c, spec.nchannels - 1))];
+    return image;
+}
+
+}  // namespace patchsim

@@ -1,0 +1,38 @@
+#pragma once
+// Linear float RGB images and their output through OpenImageIO: EXR keeps linear values, PNG is
+// 8-bit sRGB. Files are written under a temporary name and renamed, so a failed write leaves
+// nothing behind.
+
+#include <string>
+#include <vector>
+
+#include "pipeline/core/math.h"
+
+namespace patchsim {
+
+struct Image {
+    int width = 0, height = 0;
+    std::vector<float> rgb;  // row-major, 3 floats per pixel, linear
+
+    Image() = default;
+    Image(int w, int h) : width(w), height(h), rgb(std::size_t(w) * std::size_t(h) * 3, 0.0f) {}
+    Vec3 get(int x, int y) const {
+        const std::size_t i = (std::size_t(y) * std::size_t(width) + std::size_t(x)) * 3;
+        return {rgb[i], rgb[i + 1], rgb[i + 2]};
+    }
+    void set(int x, int y, const Vec3& c) {
+        const std::size_t i = (std::size_t(y) * std::size_t(width) + std::size_t(x)) * 3;
+        rgb[i] = c.x;
+        rgb[i + 1] = c.y;
+        rgb[i + 2] = c.z;
+    }
+};
+
+// Throws InputError(path, ...) when the file cannot be written.
+void writeExr(const Image& image, const std::string& path);
+void writePng(const Image& image, const std::string& path);
+Image readImage(const std::string& path);  // for tests and tools; float RGB
+
+float linearToSrgb(float linear);
+
+}  // namespace patchsim

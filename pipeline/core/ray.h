@@ -1,0 +1,52 @@
+#pragma once
+// Camera-space rays of visibility samples.
+//
+// A sample's ray starts at its lens point (x, y, 0) and passes through the sample's point on the
+// plane in focus (depth F); without defocus it starts at the pinhole with direction (sx, sy, -1),
+// where (sx, sy) is the sample's position on the z = -1 plane. Depth along the view axis is then
+// `lambda * depthPerLambda`, so a z-buffer depth converts to a ray parameter with one divide.
+
+#include "pipeline/core/camera.h"
+#include "pipeline/core/math.h"
+
+namespace patchsim {
+
+struct Ray {
+    Vec3 origin;
+    Vec3 direction;
+    float time = 0;
+    float depthPerLambda = 1;  // -direction.z
+};
+
+struct LensModel {
+    float radius = 0;  // 0: pinhole
+    float focusDistance = 1;
+};
+
+// Raster position (pixels, y down) to the z = -1 image plane (x right, y up).
+inline Vec2 rasterToScreen(const Camera& camera, Vec2 raster) {
+    const float sx =
+        (2.0f * raster.x / float(camera.width()) - 1.0f) * camera.tanHalfFovY() * camera.aspect();
+    const float sy = (1.0f - 2.0f * raster.y / float(camera.height())) * camera.tanHalfFovY();
+    return {sx, sy};
+}
+
+// `lensDisk` is the lens sample already mapped to the unit disk.
+inline Ray makeCameraRay(Vec2 screen, Vec2 lensDisk, float time, const LensModel& lens) {
+    Ray ray;
+    ray.time = time;
+    if (lens.radius > 0) {
+        const Vec3 focus(screen.x * lens.focusDistance, screen.y * lens.focusDistance,
+                         -lens.focusDistance);
+        ray.origin = Vec3(lens.radius * lensDisk, 0.0f);
+        ray.direction = focus - ray.origin;
+        ray.depthPerLambda = lens.focusDistance;
+    } else {
+        ray.origin = Vec3(0);
+        ray.direction = Vec3(screen, -1.0f);
+        ray.depthPerLambda = 1.0f;
+    }
+    return ray;
+}
+
+}  // namespace patchsim

@@ -1,0 +1,109 @@
+#include "pipeline/core/samples.h"
+
+#include <cmath>
+
+namespace patchsim {
+
+std::uint64_t mix64(std::uint64_t x) {
+    x += 0x9e3779b97f4a7c15ull;
+    x = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9ull;
+    x = (x ^ (x >> 27)) * 0x94d049bb133111ebull;
+    return x ^ (x >> 31);
+}
+
+namespace {
+
+float toUnit(std::uint64_t bits) {
+    // 24 random bits: exactly representable, strictly below 1.
+    return float(bits >> 40) * (1.0f / 16777216.0f);
+}
+
+// A random permutation of [0, n) evaluated at one index (cycle-walking hash permutation of
+// Kensler's "Correlated multi-jittered sampling").
+std::uint32_t permute(std::uint32_t i, std::uint32_t n, std::uint32_t key) {
+    std::uint32_t w = n - 1;
+    w |= w >> 1;
+    w |= w >> 2;
+    w |= w >> 4;
+    w |= w >> 8;
+    w |= w >> 16;
+    do {
+        i ^= key;
+        i *= 0xe170893d;
+        i ^= key >> 16;
+        i ^= (i & w) >> 4;
+        i ^= key >> 8;
+        i *= 0x0929eb3f;
+        i ^= key >> 23;
+        i ^= (i & w) >> 1;
+        i *= 1 | key >> 27;
+        i *= 0x6935fa69;
+        i ^= (i & w) >> 11;
+        i *= 0x74dcb303;
+        i ^= (i & w) >> 2;
+        i *= 0x9e501cc3;
+        i ^= (i & w) >> 2;
+        i *= 0xc860a3df;
+        i &= w;
+        i ^= i >> 5;
+    } while (i >= n);
+    return (i + key) % n;
+}
+
+}  // namespace
+
+SampleGenerator::SampleGenerator(std::uint64_t seed, int samplesPerPixel, const Effects& effects)
+    : seed_(seed), spp_(samplesPerPixel), gridSide_(0), effects_(effects) {
+    const int side = int(std::lround(std::sqrt(double(samplesPerPixel))));
+    if (side * side == samplesPerPixel) gridSide_ = side;
+}
+
+Sample SampleGenerator::sample(int x, int y, int index) const {
+    const std::uint64_t pixelKey =
+        mix64(seed_ ^ mix64((std::uint64_t(std::uint32_t(x)) << 32) | std::uint32_t(y)));
+    auto stream = [&](std::uint64_t dimension) {
+        return mix64(pixelKey ^ (dimension * 0xd1b54a32d192ed03ull));
+    };
+    auto jitter = [&](std::uint64_t dimension) {
+        return toUnit(mix64(stream(dimension) ^ std::uint64_t(index)));
+    };
+    const auto n = std::uint32_t(spp_);
+    const auto i = std::uint32_t(index);
+    // Stratum of this sample in a dimension: a per-pixel permutation of the sample index.
+    auto stratum = [&](std::uint64_t dimension) {
+        return float(permute(i, n, std::uint32_t(stream(dimension) >> 32)));
+    };
+    Sample s;
+    if (gridSide_ > 0) {
+        const std::uint32_t cell = permute(i, n, std::uint32_t(stream(1)));
+        s.pixelOffset = {(float(cell % std::uint32_t(gridSide_)) + jitter(2)) / float(gridSide_),
+                         (float(cell / std::uint32_t(gridSide_)) + jitter(3)) / float(gridSide_)};
+    } else {
+        s.pixelOffset = {(stratum(4) + jitter(2)) / float(n), (stratum(5) + jitter(3)) / float(n)};
+    }
+    s.time = effects_.motion ? (stratum(6) + jitter(7)) / float(n) : 0.0f;
+    s.lens = effects_.defocus
+                 ? Vec2((stratum(8) + jitter(9)) / float(n), (stratum(10) + jitter(11)) / float(n))
+                 : Vec2(0.5f, 0.5f);
+    // Guard against rounding up to 1 in the divisions above.
+    s.pixelOffset = glm::min(s.pixelOffset, Vec2(0.99999994f));
+    s.time = std::min(s.time, 1.0f);
+    return s;
+}
+
+Vec2 concentricDisk(const Vec2& u) {
+    const Vec2 o = 2.0f * u - Vec2(1.0f);
+    if (o.x == 0 && o.y == 0) return Vec2(0);
+    constexpr float kPiOver4 = 0.78539816339f;
+    float r, theta;
+    if (std::abs(o.x) > std::abs(o.y)) {
+        r = o.x;
+        theta = kPiOver4 * (o.y / o.x);
+    } else {
+        r = o.y;
+        theta = 2 * kPiOver4 - kPiOver4 * (o.x / o.y);
+    }
+    return r * Vec2(std::cos(theta), std::sin(theta));
+}
+
+}  // namespace patchsim

@@ -1,0 +1,121 @@
+#include "rasterizer/patch_hierarchy.h"
+
+#include <algorithm>
+
+#include "pipeline/core/counters.h"
+
+namespace patchsim {
+
+PATCHSIM_COUNTER("RS/Groups", "groups",
+                 "Triangle groups rasterized (a patch is one group unless split)", rsGroups);
+PATCHSIM_COUNTER("RS/Nodes built", "nodes", "Hierarchy nodes built (moving boxes)", rsNodesBuilt);
+PATCHSIM_COUNTER("RS/Hierarchy bytes", "bytes",
+                 "Bytes of all hierarchies built (node boxes and leaf triangle lists)",
+                 rsHierarchyBytes);
+PATCHSIM_COUNTER_MAX("RS/Peak hierarchy bytes", "bytes",
+                     "Largest single hierarchy, against the on-chip scratch budget",
+                     rsPeakHierarchyBytes);
+
+namespace {
+
+Vec2 centroid(const MovingMesh& mesh, std::uint32_t triangle) {
+    const std::uint32_t* v = &mesh.indices[3 * std::size_t(triangle)];
+    return (mesh.domain[v[0]] + mesh.domain[v[1]] + mesh.domain[v[2]]) / 3.0f;
+}
+
+// Sorts [begin, end) by centroid u (even level) or v (odd level), ties by index, and recurses on
+// the two halves down to `levels` splits.
+void orderRange(const MovingMesh& mesh, std::uint32_t* begin, std::uint32_t* end, int level,
+                int levels) {
+    if (levels == 0 || end - begin <= 1) return;
+    const int axis = level & 1;
+    std::sort(begin, end, [&](std::uint32_t a, std::uint32_t b) {
+        const float ka = centroid(mesh, a)[axis], kb = centroid(mesh, b)[axis];
+        return ka < kb || (ka == kb && a < b);
+    });
+    std::uint32_t* mid = begin + (end - begin + 1) / 2;
+    orderRange(mesh, begin, mid, level + 1, levels - 1);
+    orderRange(mesh, mid, end, level + 1, levels - 1);
+}
+
+int ceilLog2(std::size_t n) {
+    int l = 0;
+    while ((std::size_t(1) << l) < n) ++l;
+    return l;
+}
+
+}  // namespace
+
+void splitIntoGroups(const MovingMesh& mesh, int maxPerGroup, std::vector<std::uint32_t>& order,
+                     std::vector<std::uint32_t>& groupBegin) {
+    const std::size_t n = mesh.triangleCount();
+    order.resize(n);
+    for (std::size_t i = 0; i < n; ++i) order[i] = std::uint32_t(i);
+    const int levels =
+        ceilLog2((n + std::size_t(maxPerGroup) - 1) / std::size_t(std::max(1, maxPerGroup)));
+    orderRange(mesh, order.data(), order.data() + n, 0, levels);
+    // The same halving as orderRange, so group g is the g-th range at depth `levels`.
+    groupBegin.assign(1, 0);
+    std::vector<std::pair<std::size_t, std::size_t>> ranges{{0, n}};
+    for (int l = 0; l < levels; ++l) {
+        std::vector<std::pair<std::size_t, std::size_t>> next;
+        for (auto [b, e] : ranges) {
+            const std::size_t m = b + (e - b + 1) / 2;
+            next.push_back({b, m});
+            next.push_back({m, e});
+        }
+        ranges = std::move(next);
+    }
+    for (auto [b, e] : ranges) groupBegin.push_back(std::uint32_t(e));
+}
+
+int PatchHierarchy::levelOf(int node) const {
+    int level = 0;
+    while (node >= (1 << (level + 1)) - 1) ++level;
+    return level;
+}
+
+void PatchHierarchy::build(const MovingMesh& mesh, const std::uint32_t* triangles,
+                           std::size_t count, int leafSize) {
+    const std::size_t leavesNeeded = (count + std::size_t(leafSize) - 1) / std::size_t(leafSize);
+    depth_ = std::min(ceilLog2(std::max<std::size_t>(leavesNeeded, 1)), 6);
+    triangles_.assign(triangles, triangles + count);
+    orderRange(mesh, triangles_.data(), triangles_.data() + count, 0, depth_);
+    const int leaves = 1 << depth_;
+    nodes_.assign(std::size_t(2 * leaves - 1), LBBox{});
+    leafBegin_.assign(std::size_t(leaves) + 1, 0);
+    // Leaf ranges follow orderRange's halving.
+    std::vector<std::pair<std::size_t, std::size_t>> ranges{{0, count}};
+    for (int l = 0; l < depth_; ++l) {
+        std::vector<std::pair<std::size_t, std::size_t>> next;
+        for (auto [b, e] : ranges) {
+            const std::size_t m = b + (e - b + 1) / 2;
+            next.push_back({b, m});
+            next.push_back({m, e});
+        }
+        ranges = std::move(next);
+    }
+    const int first = firstLeaf(depth_);
+    for (int j = 0; j < leaves; ++j) {
+        leafBegin_[std::size_t(j) + 1] = std::uint32_t(ranges[std::size_t(j)].second);
+        LBBox& box = nodes_[std::size_t(first + j)];
+        for (std::size_t k = ranges[std::size_t(j)].first; k < ranges[std::size_t(j)].second; ++k)
+            box.extend(mesh.triangleBounds(triangles_[k]));
+    }
+    for (int i = first - 1; i >= 0; --i) {
+        nodes_[std::size_t(i)] = nodes_[std::size_t(2 * i + 1)];
+        nodes_[std::size_t(i)].extend(nodes_[std::size_t(2 * i + 2)]);
+    }
+    ++rsGroups;
+    rsNodesBuilt += std::int64_t(nodes_.size());
+    const auto b = std::int64_t(bytes());
+    rsHierarchyBytes += b;
+    rsPeakHierarchyBytes = std::max(rsPeakHierarchyBytes, b);
+}
+
+std::size_t PatchHierarchy::bytes() const {
+    return nodes_.size() * sizeof(LBBox) + triangles_.size() * sizeof(std::uint16_t) +
+           leafBegin_.size() * sizeof(std::uint16_t);
+}
+
+}  // namespace patchsim

@@ -1,0 +1,67 @@
+#pragma once
+// The per-patch hierarchy of linearly moving boxes (US 8,791,945).
+//
+// Representation
+// --------------
+// A complete binary tree in heap order: node i has children 2i+1 and 2i+2, the root is node 0,
+// and all leaves sit on the bottom level `depth`, so leaf j is node (2^depth - 1 + j) and the
+// leaves' bit mask is laid out in memory order (bit j for leaf j; at most 64 leaves). Each node
+// holds an LBBox (box at t=0 and at t=1). Leaves hold up to `leafSize` triangles, listed in
+// `triangles` from `leafBegin[j]` to `leafBegin[j+1]`.
+//
+// Built from the tessellator's implicit grid: triangles are ordered by their domain centroids,
+// split in half by u at even levels and by v at odd levels, so each subtree covers a compact
+// region of the patch's domain. A patch with more triangles than a group may hold is first split
+// the same way into groups, one hierarchy per group (`splitIntoGroups`).
+
+#include <cstdint>
+#include <vector>
+
+#include "pipeline/core/lbbox.h"
+#include "rasterizer/moving_mesh.h"
+
+namespace patchsim {
+
+inline constexpr int kMaxLeaves = 64;
+
+struct HierarchyOptions {
+    int leafSize = 4;                // triangles per leaf
+    int maxTrianglesPerGroup = 256;  // <= leafSize * 64
+};
+
+class PatchHierarchy {
+  public:
+    // `triangles` are indices into `mesh` triangles (one group).
+    void build(const MovingMesh& mesh, const std::uint32_t* triangles, std::size_t count,
+               int leafSize);
+
+    int depth() const { return depth_; }
+    int leafCount() const { return 1 << depth_; }
+    int nodeCount() const { return int(nodes_.size()); }
+    const LBBox& node(int i) const { return nodes_[std::size_t(i)]; }
+    static int firstLeaf(int depth) { return (1 << depth) - 1; }
+    bool isLeaf(int node) const { return node >= firstLeaf(depth_); }
+    int levelOf(int node) const;
+    // Triangles of leaf j.
+    const std::uint32_t* leafTriangles(int leaf, std::size_t& count) const {
+        const std::uint32_t b = leafBegin_[std::size_t(leaf)],
+                            e = leafBegin_[std::size_t(leaf) + 1];
+        count = e - b;
+        return triangles_.data() + b;
+    }
+    // Bytes the hierarchy would occupy on chip: node boxes plus leaf triangle lists.
+    std::size_t bytes() const;
+
+  private:
+    int depth_ = 0;
+    std::vector<LBBox> nodes_;
+    std::vector<std::uint32_t> triangles_;
+    std::vector<std::uint32_t> leafBegin_;
+};
+
+// Orders all triangles of a mesh by the implicit-grid split and cuts them into groups of at most
+// `maxPerGroup` (a power-of-two number of groups). `groupBegin` gets groups+1 offsets into `order`.
+void splitIntoGroups(const MovingMesh& mesh, int maxPerGroup, std::vector<std::uint32_t>& order,
+                     std::vector<std::uint32_t>& groupBegin);
+
+}  // namespace patchsim

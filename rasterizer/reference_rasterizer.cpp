@@ -1,0 +1,49 @@
+#include "rasterizer/reference_rasterizer.h"
+
+#include "pipeline/core/counters.h"
+#include "rasterizer/patch_rasterizer.h"
+
+namespace patchsim {
+
+PATCHSIM_COUNTER("REF/Samples", "samples", "Samples traced by the reference method", refSamples);
+PATCHSIM_COUNTER("REF/Ray-triangle tests", "tests",
+                 "Reference ray-triangle tests (every sample against every triangle)",
+                 refTriangleTests);
+PATCHSIM_COUNTER("REF/Visibility samples", "samples", "Reference samples that hit a surface",
+                 refHits);
+
+void renderReferenceRows(const std::vector<MovingMesh>& meshes, const Camera& camera,
+                         const LensModel& lens, const SampleGenerator& samples, int y0, int y1,
+                         VisibilityBuffer& buffer, ReferenceWork& total) {
+    ReferenceWork work;
+    std::vector<std::uint32_t> all;
+    for (int y = y0; y < y1; ++y) {
+        for (int x = 0; x < buffer.width(); ++x) {
+            for (int s = 0; s < buffer.samplesPerPixel(); ++s) {
+                const Ray ray = sampleRay(camera, lens, samples, x, y, s);
+                const float lambdaMin = camera.nearPlane() / ray.depthPerLambda;
+                const float lambdaMax = camera.farPlane() / ray.depthPerLambda;
+                VisibilityRecord best;
+                for (const MovingMesh& mesh : meshes) {
+                    all.resize(mesh.triangleCount());
+                    for (std::size_t i = 0; i < all.size(); ++i) all[i] = std::uint32_t(i);
+                    work.triangleTests += intersectTriangles(mesh, all.data(), all.size(), ray,
+                                                             lambdaMin, lambdaMax, best);
+                }
+                ++work.samples;
+                if (best.hit()) {
+                    ++work.hits;
+                    buffer.at(x, y, s) = best;
+                }
+            }
+        }
+    }
+    total.samples += work.samples;
+    total.triangleTests += work.triangleTests;
+    total.hits += work.hits;
+    refSamples += work.samples;
+    refTriangleTests += work.triangleTests;
+    refHits += work.hits;
+}
+
+}  // namespace patchsim

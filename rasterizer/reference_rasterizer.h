@@ -1,0 +1,26 @@
+#pragma once
+// The reference visibility method: every sample against every triangle of every patch, at the
+// sample's time. It shares the sample set, the ray and the watertight triangle test with the patch
+// rasterizer, and no traversal, bounds or tile code, so it is the oracle the patch rasterizer is
+// checked against sample for sample. Cost is samples x triangles: for small frames and tests.
+
+#include <vector>
+
+#include "pipeline/core/camera.h"
+#include "pipeline/core/ray.h"
+#include "pipeline/core/samples.h"
+#include "rasterizer/moving_mesh.h"
+#include "rasterizer/visibility_buffer.h"
+
+namespace patchsim {
+
+struct ReferenceWork {
+    std::int64_t samples = 0, triangleTests = 0, hits = 0;
+};
+
+// Rows [y0, y1) of the frame; every sample's record becomes the nearest hit over all meshes.
+void renderReferenceRows(const std::vector<MovingMesh>& meshes, const Camera& camera,
+                         const LensModel& lens, const SampleGenerator& samples, int y0, int y1,
+                         VisibilityBuffer& buffer, ReferenceWork& work);
+
+}  // namespace patchsim

@@ -1,0 +1,134 @@
+#include "rasterizer/tile_frustum.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace patchsim {
+
+namespace {
+
+// Tiles are widened by this fraction of a pixel so rounding in the plane tests can never reject
+// a sample that lies exactly on the tile's edge.
+constexpr float kGuardPixels = 1.0f / 256.0f;
+// Crossing times are widened by this much for the same reason.
+constexpr float kTimeGuard = 1e-5f;
+
+// Outside when s-coordinate < edge (sign = -1, left/bottom) or > edge (sign = +1, right/top),
+// for rays leaving the lens at offset `lensOffset` along that axis.
+Plane sidePlane(int axis, float sign, float edge, float lensOffset, float focus) {
+    // Point p is seen at screen coordinate s = (p_a - o (1 + p_z / F)) / (-p_z) along axis a.
+    // Outside (sign * (s - edge) > 0), multiplied by -p_z > 0:
+    //   sign * (p_a - o - o p_z / F + edge p_z) > 0.
+    Plane pl;
+    pl.n[axis] = sign;
+    pl.n.z = sign * (edge - (focus > 0 ? lensOffset / focus : 0.0f));
+    pl.d = -sign * lensOffset;
+    return pl;
+}
+
+bool outsideAtBothEnds(const Plane& pl, const LBBox& box, bool motion, FrustumWork& work) {
+    ++work.planeTests;
+    if (!(pl.distance(nVertex(box.bounds0, pl.n)) > 0)) return false;
+    if (!motion) return true;
+    ++work.planeTests;
+    return pl.distance(nVertex(box.bounds1, pl.n)) > 0;
+}
+
+// Narrows [lo, hi] to where the n-vertex is inside the plane; false if never.
+bool insideInterval(const Plane& pl, const LBBox& box, float& lo, float& hi, FrustumWork& work) {
+    work.planeTests += 2;
+    const float d0 = pl.distance(nVertex(box.bounds0, pl.n));
+    const float d1 = pl.distance(nVertex(box.bounds1, pl.n));
+    lo = 0.0f;
+    hi = 1.0f;
+    if (d0 > 0 && d1 > 0) return false;
+    if (d0 > 0) {  // moves from outside to inside
+        ++work.timeIntervals;
+        lo = std::max(0.0f, d0 / (d0 - d1) - kTimeGuard);
+    } else if (d1 > 0) {  // moves from inside to outside
+        ++work.timeIntervals;
+        hi = std::min(1.0f, d0 / (d0 - d1) + kTimeGuard);
+    }
+    return true;
+}
+
+}  // namespace
+
+TileFrustum makeTileFrustum(const Camera& camera, const LensModel& lens, const TileRect& tile,
+                            float farDepth) {
+    TileFrustum f;
+    const Vec2 lo =
+        rasterToScreen(camera, {float(tile.x0) - kGuardPixels, float(tile.y1) + kGuardPixels});
+    const Vec2 hi =
+        rasterToScreen(camera, {float(tile.x1) + kGuardPixels, float(tile.y0) - kGuardPixels});
+    const float edges[4] = {lo.x, hi.x, lo.y, hi.y};
+    const float signs[4] = {-1, 1, -1, 1};
+    const float focus = lens.radius > 0 ? lens.focusDistance : 0.0f;
+    f.planesPerSide = lens.radius > 0 ? 2 : 1;
+    for (int side = 0; side < 4; ++side) {
+        const int axis = side / 2;
+        if (lens.radius > 0) {
+            f.sides[side][0] = sidePlane(axis, signs[side], edges[side], -lens.radius, focus);
+            f.sides[side][1] = sidePlane(axis, signs[side], edges[side], lens.radius, focus);
+        } else {
+            f.sides[side][0] = sidePlane(axis, signs[side], edges[side], 0.0f, 0.0f);
+        }
+    }
+    // Depth is -z: outside the near plane when -z < near, beyond the far plane when -z > far.
+    f.nearPlane = {Vec3(0, 0, 1), camera.nearPlane()};
+    f.farPlane = {Vec3(0, 0, -1), -farDepth};
+    return f;
+}
+
+bool overlapsFrustum(const TileFrustum& f, const LBBox& box, bool motion, FrustumWork& work) {
+    if (box.empty()) return false;
+    for (int side = 0; side < 4; ++side) {
+        bool outside = true;
+        for (int k = 0; k < f.planesPerSide && outside; ++k)
+            outside = outsideAtBothEnds(f.sides[side][k], box, motion, work);
+        if (outside) return false;
+    }
+    if (f.testNearFar) {
+        if (outsideAtBothEnds(f.nearPlane, box, motion, work)) return false;
+        if (outsideAtBothEnds(f.farPlane, box, motion, work)) return false;
+    }
+    return true;
+}
+
+bool leafTimeInterval(const TileFrustum& f, const LBBox& box, float& tmin, float& tmax,
+                      FrustumWork& work) {
+    if (box.empty()) return false;
+    auto narrow = [&](const Plane* planes, int count) {
+        // Inside for some lens position along this side when inside either extreme plane: the
+        // union of the two intervals, bounded by their hull.
+        float lo = 1.0f, hi = 0.0f;
+        for (int k = 0; k < count; ++k) {
+            float a, b;
+            if (insideInterval(planes[k], box, a, b, work)) {
+                lo = std::min(lo, a);
+                hi = std::max(hi, b);
+            }
+        }
+        tmin = std::max(tmin, lo);
+        tmax = std::min(tmax, hi);
+        return tmin <= tmax;
+    };
+    for (int side = 0; side < 4; ++side)
+        if (!narrow(f.sides[side], f.planesPerSide)) return false;
+    if (f.testNearFar) {
+        if (!narrow(&f.nearPlane, 1)) return false;
+        if (!narrow(&f.farPlane, 1)) return false;
+    }
+    return true;
+}
+
+bool insideNearFar(const TileFrustum& f, const LBBox& box, FrustumWork& work) {
+    work.planeTests += 4;
+    for (const Plane* pl : {&f.nearPlane, &f.farPlane}) {
+        if (pl->distance(pVertex(box.bounds0, pl->n)) > 0) return false;
+        if (pl->distance(pVertex(box.bounds1, pl->n)) > 0) return false;
+    }
+    return true;
+}
+
+}  // namespace patchsim

@@ -1,0 +1,67 @@
+#pragma once
+// The per-sample visibility buffer (z-buffer) shared by every visibility method.
+//
+// Representation
+// --------------
+// One record per sample, pixel-major: sample s of pixel (x, y) is record (y * width + x) * spp + s.
+// A record is the nearest visibility sample so far: depth (camera -z), patch, triangle and the
+// barycentric weights of the triangle's vertices 1 and 2. Hits compare by (depth, patch,
+// triangle), so the buffer's final content does not depend on the order hits arrive in, and a
+// sample exactly on an edge shared by two triangles resolves the same way in every method.
+
+#include <cstdint>
+#include <limits>
+#include <vector>
+
+namespace patchsim {
+
+struct VisibilityRecord {
+    float depth = std::numeric_limits<float>::infinity();
+    std::int32_t patch = -1;
+    std::uint32_t triangle = 0;
+    float b1 = 0, b2 = 0;
+
+    bool hit() const { return patch >= 0; }
+    bool nearerThan(const VisibilityRecord& o) const {
+        if (depth != o.depth) return depth < o.depth;
+        if (patch != o.patch) return std::uint32_t(patch) < std::uint32_t(o.patch);
+        return triangle < o.triangle;
+    }
+};
+
+class VisibilityBuffer {
+  public:
+    VisibilityBuffer(int width, int height, int spp, float farDepth)
+        : width_(width),
+          height_(height),
+          spp_(spp),
+          far_(farDepth),
+          records_(std::size_t(width) * std::size_t(height) * std::size_t(spp)) {}
+
+    int width() const { return width_; }
+    int height() const { return height_; }
+    int samplesPerPixel() const { return spp_; }
+    std::size_t index(int x, int y, int s) const {
+        return (std::size_t(y) * std::size_t(width_) + std::size_t(x)) * std::size_t(spp_) +
+               std::size_t(s);
+    }
+    const VisibilityRecord& at(int x, int y, int s) const { return records_[index(x, y, s)]; }
+    VisibilityRecord& at(int x, int y, int s) { return records_[index(x, y, s)]; }
+    // Current depth bound for z culling: the record's depth, or the far plane before any hit.
+    float depthBound(int x, int y, int s) const {
+        const float d = records_[index(x, y, s)].depth;
+        return d < far_ ? d : far_;
+    }
+    void offer(int x, int y, int s, const VisibilityRecord& hit) {
+        VisibilityRecord& r = records_[index(x, y, s)];
+        if (hit.nearerThan(r)) r = hit;
+    }
+    const std::vector<VisibilityRecord>& records() const { return records_; }
+
+  private:
+    int width_, height_, spp_;
+    float far_;
+    std::vector<VisibilityRecord> records_;
+};
+
+}  // namespace patchsim

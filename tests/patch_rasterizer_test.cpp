@@ -1,0 +1,232 @@
+#include "rasterizer/patch_rasterizer.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <random>
+
+#include "pipeline/core/counters.h"
+#include "pipeline/core/scene_reader.h"
+#include "pipeline/driver/render.h"
+#include "rasterizer/reference_rasterizer.h"
+#include "tests/test_paths.h"
+
+namespace patchsim {
+namespace {
+
+SceneDesc smallScene(SceneDesc scene, int width = 48, int height = 36, int spp = 4) {
+    scene.film.width = width;
+    scene.film.height = height;
+    scene.film.samplesPerPixel = spp;
+    return scene;
+}
+
+RenderResult renderWith(const SceneDesc& scene, VisibilityMethod method, int threads = 1) {
+    RenderOptions options;
+    options.method = method;
+    options.threads = threads;
+    return renderScene(scene, options);
+}
+
+struct Comparison {
+    std::size_t samples = 0, hits = 0, mismatches = 0;
+};
+
+// Sample for sample: the same patch, triangle and depth bits.
+Comparison compare(const VisibilityBuffer& a, const VisibilityBuffer& b) {
+    Comparison c;
+    for (std::size_t i = 0; i < a.records().size(); ++i) {
+        const VisibilityRecord& x = a.records()[i];
+        const VisibilityRecord& y = b.records()[i];
+        ++c.samples;
+        c.hits += x.hit();
+        if (x.patch != y.patch || (x.hit() && (x.triangle != y.triangle || x.depth != y.depth)))
+            ++c.mismatches;
+    }
+    return c;
+}
+
+TEST(PatchRasterizer, MatchesTheReferenceOnEveryShippedScene) {
+    for (const std::string& path : test::sceneFiles()) {
+        const SceneDesc scene = smallScene(readSceneFile(path));
+        const RenderResult patch = renderWith(scene, VisibilityMethod::Patch);
+        const RenderResult reference = renderWith(scene, VisibilityMethod::Reference);
+        const Comparison c = compare(*patch.visibility, *reference.visibility);
+        EXPECT_GT(c.hits, c.samples / 20) << path << ": the scene should cover the frame";
+        EXPECT_EQ(c.mismatches, 0u)
+            << path << ": " << c.mismatches << " of " << c.samples << " samples differ";
+    }
+}
+
+TEST(PatchRasterizer, EveryOptionGivesTheReferenceVisibility) {
+    const SceneDesc base =
+        smallScene(readSceneFile(test::sourcePath("scenes/motion_defocus.json")));
+    const RenderResult reference = renderWith(base, VisibilityMethod::Reference);
+    std::vector<std::pair<std::string, RasterizerOptions>> variants;
+    for (BranchMethod m : {BranchMethod::Root, BranchMethod::FirstSplit, BranchMethod::Bitmask}) {
+        RasterizerOptions o;
+        o.branchMethod = m;
+        variants.push_back({branchMethodName(m), o});
+    }
+    RasterizerOptions o;
+    o.timeRefinement = false;
+    variants.push_back({"no time refinement", o});
+    o = {};
+    o.zCulling = false;
+    variants.push_back({"no z culling", o});
+    for (int tile : {1, 4, 16, 32}) {
+        o = {};
+        o.tileSize = tile;
+        variants.push_back({"tile " + std::to_string(tile), o});
+    }
+    for (int leaf : {1, 2, 8}) {
+        o = {};
+        o.leafSize = leaf;
+        o.maxTrianglesPerGroup = 64 * leaf;
+        variants.push_back({"leaf " + std::to_string(leaf), o});
+    }
+    o = {};
+    o.boundsLevel = 3;
+    variants.push_back({"bounds level 3", o});
+    o = {};
+    o.maxTrianglesPerGroup = 16;
+    variants.push_back({"groups of 16", o});
+    for (const auto& [name, options] : variants) {
+        SceneDesc scene = base;
+        scene.rasterizer = options;
+        const RenderResult patch = renderWith(scene, VisibilityMethod::Patch);
+        EXPECT_EQ(compare(*patch.visibility, *reference.visibility).mismatches, 0u) << name;
+    }
+}
+
+// Random moving, defocused torus patches: transforms, lens and focus drawn from a fixed seed.
+TEST(PatchRasterizer, MatchesTheReferenceOnRandomMovingDefocusedPatches) {
+    std::mt19937 rng(11);
+    std::uniform_real_distribution<float> u(-1.0f, 1.0f);
+    for (int trial = 0; trial < 12; ++trial) {
+        SceneDesc scene;
+        scene.path = "random";
+        scene.film = {40, 30, 4, std::uint64_t(trial)};
+        scene.camera.open = {{0, 0, 5}, {0, 0, 0}, {0, 1, 0}};
+        scene.camera.close = scene.camera.open;
+        scene.lens = {trial % 3 == 0 ? 0.0f : 0.3f * (u(rng) + 1.0f),
+                      3.0f + 2.0f * (u(rng) + 1.0f)};
+        scene.tessellation.factor = 3.0f + 2.5f * (u(rng) + 1.0f);
+        scene.tessellation.partitioning = Partitioning::FractionalOdd;
+        ObjectDesc torus;
+        torus.cagePath = test::sourcePath("scenes/cages/catmark_torus.obj");
+        torus.open.translate = {u(rng), u(rng), u(rng)};
+        torus.open.rotateDegrees = {90.0f * u(rng), 90.0f * u(rng), 90.0f * u(rng)};
+        torus.close.translate = torus.open.translate + 1.5f * Vec3(u(rng), u(rng), 2.0f * u(rng));
+        torus.close.rotateDegrees = torus.open.rotateDegrees + 40.0f * Vec3(u(rng), u(rng), u(rng));
+        scene.objects.push_back(torus);
+        const RenderResult patch = renderWith(scene, VisibilityMethod::Patch);
+        const RenderResult reference = renderWith(scene, VisibilityMethod::Reference);
+        const Comparison c = compare(*patch.visibility, *reference.visibility);
+        EXPECT_EQ(c.mismatches, 0u) << "trial " << trial;
+    }
+}
+
+TEST(PatchRasterizer, ImagesAndCountersDoNotDependOnTheThreadCount) {
+    const SceneDesc scene =
+        smallScene(readSceneFile(test::sourcePath("scenes/motion_defocus.json")), 64, 48, 4);
+    CounterRegistry::instance().reset();
+    const RenderResult one = renderWith(scene, VisibilityMethod::Patch, 1);
+    const CounterValues countersOne = CounterRegistry::instance().snapshot();
+    CounterRegistry::instance().reset();
+    const RenderResult two = renderWith(scene, VisibilityMethod::Patch, 2);
+    const CounterValues countersTwo = CounterRegistry::instance().snapshot();
+    EXPECT_EQ(one.image.rgb, two.image.rgb);
+    EXPECT_EQ(countersOne, countersTwo);
+}
+
+TEST(PatchRasterizer, StaticSceneDoesNoTimeWork) {
+    CounterRegistry::instance().reset();
+    const SceneDesc scene = smallScene(readSceneFile(test::sourcePath("scenes/static.json")));
+    renderWith(scene, VisibilityMethod::Patch);
+    const CounterValues c = CounterRegistry::instance().snapshot();
+    EXPECT_EQ(c.at("RS/Leaf time intervals"), 0);
+    EXPECT_EQ(c.at("RS/Samples rejected by time"), 0);
+    EXPECT_EQ(c.at("RS/Tiles rejected by time"), 0);
+    EXPECT_GT(c.at("RS/Rays cast"), 0);
+    // ...and the samples carry no time.
+    const SampleGenerator samples(1, 4, Effects{});
+    for (int s = 0; s < 4; ++s) EXPECT_EQ(samples.sample(3, 4, s).time, 0.0f);
+}
+
+TEST(PatchRasterizer, MotionSceneNarrowsTimeAndRejectsSamplesByTime) {
+    CounterRegistry::instance().reset();
+    renderWith(smallScene(readSceneFile(test::sourcePath("scenes/motion.json"))),
+               VisibilityMethod::Patch);
+    const CounterValues c = CounterRegistry::instance().snapshot();
+    EXPECT_GT(c.at("RS/Leaf time intervals"), 0);
+    EXPECT_GT(c.at("RS/Samples rejected by time"), 0);
+}
+
+TEST(PatchRasterizer, BitmaskBranchIsNeverAboveFirstSplit) {
+    const SceneDesc scene =
+        smallScene(readSceneFile(test::sourcePath("scenes/motion_defocus.json")), 96, 72, 4);
+    const FrontEnd fe(scene);
+    const Effects effects = detectEffects(scene, fe.geometryMoves(), fe.camera().moves());
+    const SampleGenerator samples(scene.film.seed, scene.film.samplesPerPixel, effects);
+    const LensModel lens{scene.lens.apertureRadius, scene.lens.focusDistance};
+    RasterizerOptions options;
+    options.zCulling = false;
+    const PatchRasterizer rasterizer(fe.camera(), lens, samples, effects, options);
+    VisibilityBuffer buffer(scene.film.width, scene.film.height, scene.film.samplesPerPixel,
+                            fe.camera().farPlane());
+    FrontEndWorkspace ws = fe.makeWorkspace();
+    std::size_t compared = 0, strictlyBelow = 0;
+    for (std::size_t i = 0; i < fe.patchCount(); ++i) {
+        TessellatedPatch patch;
+        fe.tessellate(i, patch, ws);
+        MovingMesh mesh;
+        toMovingMesh(patch, fe.camera(), effects.motion, int(i), mesh);
+        std::vector<std::uint32_t> all(mesh.triangleCount());
+        for (std::size_t k = 0; k < all.size(); ++k) all[k] = std::uint32_t(k);
+        PatchRasterizer::Group group;
+        WorkCounts work;
+        rasterizer.prepareGroup(mesh, all.data(), all.size(), group, work);
+        for (int ty = group.tileY0; ty < group.tileY1; ++ty) {
+            for (int tx = group.tileX0; tx < group.tileX1; ++tx) {
+                const TileRect tile{tx * 8, ty * 8, std::min(tx * 8 + 8, scene.film.width),
+                                    std::min(ty * 8 + 8, scene.film.height)};
+                const TileTraversal t =
+                    rasterizer.traverseTile(group, rasterizer.tileFrustum(tile, buffer), work);
+                if (!t.overlaps) continue;
+                ++compared;
+                // The bitmask node lies in the first-split node's subtree.
+                int node = t.bitmaskNode;
+                while (node > t.firstSplitNode) node = (node - 1) / 2;
+                EXPECT_EQ(node, t.firstSplitNode);
+                strictlyBelow += t.bitmaskNode != t.firstSplitNode;
+            }
+        }
+    }
+    EXPECT_GT(compared, 100u);
+    EXPECT_GT(strictlyBelow, 0u) << "the bitmask method should find deeper nodes in some tiles";
+}
+
+TEST(PatchRasterizer, WritesABlurredImage) {
+    const SceneDesc scene = smallScene(defaultScene(), 80, 60, 8);
+    const RenderResult r = renderWith(scene, VisibilityMethod::Patch);
+    ASSERT_EQ(r.image.width, 80);
+    double sum = 0;
+    std::size_t partial = 0;  // pixels whose samples disagree: blur (or an edge)
+    for (int y = 0; y < 60; ++y) {
+        for (int x = 0; x < 80; ++x) {
+            const Vec3 c = r.image.get(x, y);
+            ASSERT_TRUE(std::isfinite(c.x) && std::isfinite(c.y) && std::isfinite(c.z));
+            sum += c.x + c.y + c.z;
+            int hits = 0;
+            for (int s = 0; s < 8; ++s) hits += r.visibility->at(x, y, s).hit();
+            partial += hits > 0 && hits < 8;
+        }
+    }
+    EXPECT_GT(sum, 0.0);
+    EXPECT_GT(partial, 200u) << "motion and defocus blur make wide partially covered regions";
+}
+
+}  // namespace
+}  // namespace patchsim
