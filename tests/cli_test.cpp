@@ -140,6 +140,46 @@ TEST(Cli, InfoAndTessellateEveryRegressionCage) {
     }
 }
 
+TEST(Cli, RenderWritesImagesAndStats) {
+    const std::string dir = patchsim::test::temporaryDirectory() + "/render";
+    const CommandResult r = run("render -q " + sourcePath("scenes/motion.json") + " -o " + dir +
+                                " --tile-size 16 --branch-method first-split");
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    for (const char* file : {"image.exr", "image.png", "stats.json"})
+        EXPECT_TRUE(fs::exists(dir + "/" + file)) << file;
+    std::ifstream in(dir + "/stats.json");
+    const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    EXPECT_NE(text.find("\"RS/Rays cast\""), std::string::npos);
+    EXPECT_NE(text.find("\"sample test efficiency\""), std::string::npos);
+    EXPECT_NE(text.find("\"branch method\": \"first-split\""), std::string::npos);
+}
+
+TEST(Cli, RenderRejectsBadRasterizerOptions) {
+    const std::string dir = patchsim::test::temporaryDirectory() + "/bad-render";
+    CommandResult r = run("render -q -o " + dir + " --tile-size 0");
+    EXPECT_NE(r.exitCode, 0);
+    EXPECT_NE(r.output.find("rasterizer.tile_size"), std::string::npos) << r.output;
+    r = run("render -q -o " + dir + " --branch-method sideways");
+    EXPECT_NE(r.exitCode, 0);
+    EXPECT_NE(r.output.find("--branch-method"), std::string::npos) << r.output;
+    const std::string scene = writeFile("raster.json",
+                                        R"({"rasterizer": {"leaf_size": 4, "max_triangles_per_group": 1000}, "objects": [{"cage": "x.obj"}]})");
+    r = run("render -q " + scene + " -o " + dir);
+    EXPECT_NE(r.exitCode, 0);
+    EXPECT_NE(r.output.find("raster.json: rasterizer.max_triangles_per_group"), std::string::npos) << r.output;
+    EXPECT_FALSE(fs::exists(dir + "/image.png"));
+}
+
+TEST(Cli, VerifyTilesReportsEveryVariantWithoutFalseRejects) {
+    const CommandResult r = run("verify-tiles --cases 300");
+    EXPECT_EQ(r.exitCode, 0) << r.output;
+    for (const char* variant : {"pinhole-n-vertex:", "pinhole-n-vertex-time-interval:", "lens-two-plane:",
+                                "lens-two-plane-time-interval:"})
+        EXPECT_NE(r.output.find(std::string(variant) + " cases 300, false rejects 0, false accepts"),
+                  std::string::npos)
+            << r.output;
+}
+
 TEST(Cli, UnknownOptionIsAUsageError) {
     const CommandResult r = run("info --frobnicate");
     EXPECT_NE(r.exitCode, 0);

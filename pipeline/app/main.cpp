@@ -128,6 +128,9 @@ int runRender(const RenderCommand& r) {
     options.threads = r.common.threads;
     CounterRegistry::instance().reset();
     const RenderResult result = renderScene(scene, options);
+    if (result.effects.transparency)
+        std::cerr << "patchsim: warning: the scene calls for transparency, which the back end does not "
+                     "blend yet (issue 4): surfaces are rendered opaque\n";
     const CounterValues counters = CounterRegistry::instance().snapshot();
     std::filesystem::create_directories(r.outputDir);
     writeExr(result.image, r.outputDir + "/image.exr");

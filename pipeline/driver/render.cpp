@@ -20,8 +20,12 @@ struct PreparedPatch {
     std::vector<PatchRasterizer::Group> groups;
 };
 
-void runPatchMethod(const std::vector<MovingMesh>& meshes, const PatchRasterizer& rasterizer,
-                    int tileRows, int workers, VisibilityBuffer& buffer) {
+}  // namespace
+
+void runPatchVisibility(const std::vector<MovingMesh>& meshes, const PatchRasterizer& rasterizer,
+                        int workers, VisibilityBuffer& buffer) {
+    const int tileSize = rasterizer.options().tileSize;
+    const int tileRows = (buffer.height() + tileSize - 1) / tileSize;
     // Hierarchies and screen bounds per group, once per patch.
     std::vector<PreparedPatch> prepared(meshes.size());
     std::vector<WorkCounts> prepareWork(std::size_t(resolveThreadCount(workers)));
@@ -54,8 +58,6 @@ void runPatchMethod(const std::vector<MovingMesh>& meshes, const PatchRasterizer
         work.flush();
     });
 }
-
-}  // namespace
 
 const char* visibilityMethodName(VisibilityMethod m) {
     return m == VisibilityMethod::Patch ? "patch" : "reference";
@@ -92,9 +94,7 @@ RenderResult renderScene(const SceneDesc& scene, const RenderOptions& options) {
     VisibilityBuffer& buffer = *result.visibility;
     if (options.method == VisibilityMethod::Patch) {
         const PatchRasterizer rasterizer(camera, lens, samples, result.effects, scene.rasterizer);
-        const int tileRows =
-            (scene.film.height + scene.rasterizer.tileSize - 1) / scene.rasterizer.tileSize;
-        runPatchMethod(meshes, rasterizer, tileRows, workers, buffer);
+        runPatchVisibility(meshes, rasterizer, workers, buffer);
     } else {
         constexpr int kBands = 64;
         parallelFor(kBands, workers, [&](int, std::size_t band) {

@@ -13,6 +13,7 @@
 #include "pipeline/core/effects.h"
 #include "pipeline/core/rasterizer_options.h"
 #include "pipeline/core/scene.h"
+#include "rasterizer/moving_mesh.h"
 #include "rasterizer/visibility_buffer.h"
 
 namespace patchsim {
@@ -36,5 +37,11 @@ struct RenderResult {
 };
 
 RenderResult renderScene(const SceneDesc& scene, const RenderOptions& options);
+
+// The visibility step of the patch method on prepared meshes, for benchmarks: groups and
+// hierarchies, then every tile of every group, tile rows dealt to `threads` workers.
+class PatchRasterizer;
+void runPatchVisibility(const std::vector<MovingMesh>& meshes, const PatchRasterizer& rasterizer,
+                        int threads, VisibilityBuffer& buffer);
 
 }  // namespace patchsim

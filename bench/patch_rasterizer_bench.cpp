@@ -1,0 +1,87 @@
+// The patch rasterizer's visibility step (hierarchies, tile tests, rays) on the default scene,
+// with its counters as user counters, and its sample test efficiency at three blur levels.
+
+#include <benchmark/benchmark.h>
+
+#include "pipeline/core/counters.h"
+#include "pipeline/core/scene_reader.h"
+#include "pipeline/driver/render.h"
+#include "rasterizer/patch_rasterizer.h"
+#include "tessellator/front_end.h"
+
+namespace {
+
+using namespace patchsim;
+
+struct Prepared {
+    std::unique_ptr<FrontEnd> frontEnd;
+    Effects effects;
+    std::vector<MovingMesh> meshes;
+};
+
+Prepared prepare(const SceneDesc& scene) {
+    Prepared p;
+    p.frontEnd = std::make_unique<FrontEnd>(scene);
+    p.effects = detectEffects(scene, p.frontEnd->geometryMoves(), p.frontEnd->camera().moves());
+    FrontEndWorkspace ws = p.frontEnd->makeWorkspace();
+    TessellatedPatch patch;
+    p.meshes.resize(p.frontEnd->patchCount());
+    for (std::size_t i = 0; i < p.meshes.size(); ++i) {
+        p.frontEnd->tessellate(i, patch, ws);
+        toMovingMesh(patch, p.frontEnd->camera(), p.effects.motion, int(i), p.meshes[i]);
+    }
+    return p;
+}
+
+void visibility(benchmark::State& state, const SceneDesc& scene) {
+    const Prepared p = prepare(scene);
+    const Camera& camera = p.frontEnd->camera();
+    const SampleGenerator samples(scene.film.seed, scene.film.samplesPerPixel, p.effects);
+    const LensModel lens{p.effects.defocus ? scene.lens.apertureRadius : 0.0f, scene.lens.focusDistance};
+    const PatchRasterizer rasterizer(camera, lens, samples, p.effects, scene.rasterizer);
+    CounterRegistry::instance().reset();
+    std::int64_t frames = 0;
+    for (auto _ : state) {
+        VisibilityBuffer buffer(scene.film.width, scene.film.height, scene.film.samplesPerPixel, camera.farPlane());
+        runPatchVisibility(p.meshes, rasterizer, 1, buffer);
+        benchmark::DoNotOptimize(buffer.records().data());
+        ++frames;
+    }
+    const CounterValues c = CounterRegistry::instance().snapshot();
+    const auto perFrame = [&](const char* name) { return double(c.at(name)) / double(frames); };
+    state.counters["STE"] = perFrame("RS/Visibility samples") / perFrame("RS/Samples tested");
+    state.counters["samples tested"] = perFrame("RS/Samples tested");
+    state.counters["rays"] = perFrame("RS/Rays cast");
+    state.counters["ray-box/ray"] = perFrame("RS/Ray-box tests") / perFrame("RS/Rays cast");
+    state.counters["ray-tri/ray"] = perFrame("RS/Ray-triangle tests") / perFrame("RS/Rays cast");
+    state.counters["tiles"] = perFrame("RS/Tiles in bounds");
+    state.counters["plane tests"] = perFrame("RS/Plane tests");
+    state.counters["rays/s"] = benchmark::Counter(perFrame("RS/Rays cast") * double(frames), benchmark::Counter::kIsRate);
+}
+
+void defaultScene(benchmark::State& state) { visibility(state, patchsim::defaultScene()); }
+BENCHMARK(defaultScene)->Unit(benchmark::kMillisecond);
+
+// The default scene with its motion scaled by 0.25, 1 and 4 (range(0) is the scale x 100).
+void motionBlurLevel(benchmark::State& state) {
+    SceneDesc scene = patchsim::defaultScene();
+    const float scale = float(state.range(0)) / 100.0f;
+    for (ObjectDesc& o : scene.objects) {
+        o.close.translate = o.open.translate + scale * (o.close.translate - o.open.translate);
+        o.close.rotateDegrees = o.open.rotateDegrees + scale * (o.close.rotateDegrees - o.open.rotateDegrees);
+    }
+    scene.lens.apertureRadius = 0;
+    visibility(state, scene);
+}
+BENCHMARK(motionBlurLevel)->Arg(25)->Arg(100)->Arg(400)->Unit(benchmark::kMillisecond);
+
+// Defocus only, aperture radius 0.03, 0.12 and 0.48 (range(0) is the radius x 100).
+void defocusBlurLevel(benchmark::State& state) {
+    SceneDesc scene = patchsim::defaultScene();
+    for (ObjectDesc& o : scene.objects) o.close = o.open;
+    scene.lens.apertureRadius = float(state.range(0)) / 100.0f;
+    visibility(state, scene);
+}
+BENCHMARK(defocusBlurLevel)->Arg(3)->Arg(12)->Arg(48)->Unit(benchmark::kMillisecond);
+
+}  // namespace
