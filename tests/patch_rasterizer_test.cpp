@@ -128,6 +128,35 @@ TEST(PatchRasterizer, MatchesTheReferenceOnRandomMovingDefocusedPatches) {
     }
 }
 
+// A torus that flies through the near plane and the camera plane during the frame.
+TEST(PatchRasterizer, PatchCrossingTheCameraPlaneMatchesTheReference) {
+    for (float aperture : {0.0f, 0.2f}) {
+        SceneDesc scene;
+        scene.path = "crossing";
+        scene.film = {40, 30, 8, 5};
+        scene.camera.open = {{0, 0, 5}, {0, 0, 0}, {0, 1, 0}};
+        scene.camera.close = scene.camera.open;
+        scene.lens = {aperture, 4.0f};
+        scene.tessellation.factor = 6;
+        ObjectDesc torus;
+        torus.cagePath = test::sourcePath("scenes/cages/catmark_torus.obj");
+        torus.open.translate = {0.3f, 0.2f, 0.0f};
+        torus.open.rotateDegrees = {80, 0, 0};
+        torus.close = torus.open;
+        torus.close.translate = {0.3f, 0.2f, 7.0f};
+        scene.objects.push_back(torus);
+        CounterRegistry::instance().reset();
+        const RenderResult patch = renderWith(scene, VisibilityMethod::Patch);
+        const CounterValues counters = CounterRegistry::instance().snapshot();
+        const RenderResult reference = renderWith(scene, VisibilityMethod::Reference);
+        const Comparison c = compare(*patch.visibility, *reference.visibility);
+        EXPECT_GT(counters.at("RS/Full-screen bounds"), 0);
+        EXPECT_GT(c.hits, 0u);
+        EXPECT_EQ(c.mismatches, 0u) << "aperture " << aperture;
+        for (float v : patch.image.rgb) ASSERT_TRUE(std::isfinite(v));
+    }
+}
+
 TEST(PatchRasterizer, ImagesAndCountersDoNotDependOnTheThreadCount) {
     const SceneDesc scene =
         smallScene(readSceneFile(test::sourcePath("scenes/motion_defocus.json")), 64, 48, 4);
