@@ -38,6 +38,21 @@ void orderRange(const MovingMesh& mesh, std::uint32_t* begin, std::uint32_t* end
     orderRange(mesh, mid, end, level + 1, levels - 1);
 }
 
+// [0, n) halved `levels` times the way orderRange splits it: 2^levels ranges, left to right.
+std::vector<std::pair<std::size_t, std::size_t>> halvedRanges(std::size_t n, int levels) {
+    std::vector<std::pair<std::size_t, std::size_t>> ranges{{0, n}};
+    for (int l = 0; l < levels; ++l) {
+        std::vector<std::pair<std::size_t, std::size_t>> next;
+        for (auto [b, e] : ranges) {
+            const std::size_t m = b + (e - b + 1) / 2;
+            next.push_back({b, m});
+            next.push_back({m, e});
+        }
+        ranges = std::move(next);
+    }
+    return ranges;
+}
+
 int ceilLog2(std::size_t n) {
     int l = 0;
     while ((std::size_t(1) << l) < n) ++l;
@@ -56,17 +71,7 @@ void splitIntoGroups(const MovingMesh& mesh, int maxPerGroup, std::vector<std::u
     orderRange(mesh, order.data(), order.data() + n, 0, levels);
     // The same halving as orderRange, so group g is the g-th range at depth `levels`.
     groupBegin.assign(1, 0);
-    std::vector<std::pair<std::size_t, std::size_t>> ranges{{0, n}};
-    for (int l = 0; l < levels; ++l) {
-        std::vector<std::pair<std::size_t, std::size_t>> next;
-        for (auto [b, e] : ranges) {
-            const std::size_t m = b + (e - b + 1) / 2;
-            next.push_back({b, m});
-            next.push_back({m, e});
-        }
-        ranges = std::move(next);
-    }
-    for (auto [b, e] : ranges) groupBegin.push_back(std::uint32_t(e));
+    for (auto [b, e] : halvedRanges(n, levels)) groupBegin.push_back(std::uint32_t(e));
 }
 
 int PatchHierarchy::levelOf(int node) const {
@@ -85,16 +90,7 @@ void PatchHierarchy::build(const MovingMesh& mesh, const std::uint32_t* triangle
     nodes_.assign(std::size_t(2 * leaves - 1), LBBox{});
     leafBegin_.assign(std::size_t(leaves) + 1, 0);
     // Leaf ranges follow orderRange's halving.
-    std::vector<std::pair<std::size_t, std::size_t>> ranges{{0, count}};
-    for (int l = 0; l < depth_; ++l) {
-        std::vector<std::pair<std::size_t, std::size_t>> next;
-        for (auto [b, e] : ranges) {
-            const std::size_t m = b + (e - b + 1) / 2;
-            next.push_back({b, m});
-            next.push_back({m, e});
-        }
-        ranges = std::move(next);
-    }
+    const auto ranges = halvedRanges(count, depth_);
     const int first = firstLeaf(depth_);
     for (int j = 0; j < leaves; ++j) {
         leafBegin_[std::size_t(j) + 1] = std::uint32_t(ranges[std::size_t(j)].second);
