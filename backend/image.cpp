@@ -31,10 +31,19 @@ float linearToSrgb(float v) {
     return v <= 0.0031308f ? 12.92f * v : 1.055f * std::pow(v, 1.0f / 2.4f) - 0.055f;
 }
 
-void writeExr(const Image& image, const std::string& path) {
-    OIIO::ImageSpec spec(image.width, image.height, 3, OIIO::TypeDesc::FLOAT);
+void writeFloatChannels(const std::string& path, int width, int height,
+                        const std::vector<std::string>& names, const std::vector<float>& pixels) {
+    OIIO::ImageSpec spec(width, height, int(names.size()), OIIO::TypeDesc::FLOAT);
+    spec.channelnames = names;
+    for (std::size_t c = 0; c < names.size(); ++c)
+        if (names[c] == "Z") spec.z_channel = int(c);
     spec.attribute("compression", "zip");
-    writeImage(path, path + ".tmp-patchsim.exr", spec, image.rgb.data());
+    writeImage(path, path + ".tmp-patchsim" + std::filesystem::path(path).extension().string(),
+               spec, pixels.data());
+}
+
+void writeExr(const Image& image, const std::string& path) {
+    writeFloatChannels(path, image.width, image.height, {"R", "G", "B"}, image.rgb);
 }
 
 void writePng(const Image& image, const std::string& path) {
@@ -43,6 +52,12 @@ void writePng(const Image& image, const std::string& path) {
         bytes[i] = static_cast<unsigned char>(std::lround(linearToSrgb(image.rgb[i]) * 255.0f));
     OIIO::ImageSpec spec(image.width, image.height, 3, OIIO::TypeDesc::UINT8);
     writeImage(path, path + ".tmp-patchsim.png", spec, bytes.data());
+}
+
+std::vector<std::string> readChannelNames(const std::string& path) {
+    auto in = OIIO::ImageInput::open(path);
+    if (!in) throw InputError(path, "", "cannot read image: " + OIIO::geterror());
+    return in->spec().channelnames;
 }
 
 Image readImage(const std::string& path) {

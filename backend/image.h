@@ -30,8 +30,12 @@ struct Image {
 
 // Throws InputError(path, ...) when the file cannot be written.
 void writeExr(const Image& image, const std::string& path);
+// Float channels, interleaved per pixel, with their names (EXR or any float format).
+void writeFloatChannels(const std::string& path, int width, int height,
+                        const std::vector<std::string>& names, const std::vector<float>& pixels);
 void writePng(const Image& image, const std::string& path);
 Image readImage(const std::string& path);  // for tests and tools; float RGB
+std::vector<std::string> readChannelNames(const std::string& path);
 
 float linearToSrgb(float linear);
 

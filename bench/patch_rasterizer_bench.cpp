@@ -28,7 +28,7 @@ Prepared prepare(const SceneDesc& scene) {
     p.meshes.resize(p.frontEnd->patchCount());
     for (std::size_t i = 0; i < p.meshes.size(); ++i) {
         p.frontEnd->tessellate(i, patch, ws);
-        toMovingMesh(patch, p.frontEnd->camera(), p.effects.motion, int(i), p.meshes[i]);
+        toMovingMesh(patch, p.frontEnd->camera(), p.effects.motion, int(i), true, p.meshes[i]);
     }
     return p;
 }
@@ -37,13 +37,15 @@ void visibility(benchmark::State& state, const SceneDesc& scene) {
     const Prepared p = prepare(scene);
     const Camera& camera = p.frontEnd->camera();
     const SampleGenerator samples(scene.film.seed, scene.film.samplesPerPixel, p.effects);
-    const LensModel lens{p.effects.defocus ? scene.lens.apertureRadius : 0.0f, scene.lens.focusDistance};
+    const LensModel lens{p.effects.defocus ? scene.lens.apertureRadius : 0.0f,
+                         scene.lens.focusDistance};
     const PatchRasterizer rasterizer(camera, lens, samples, p.effects, scene.rasterizer);
     CounterRegistry::instance().reset();
     std::int64_t frames = 0;
     for (auto _ : state) {
-        VisibilityBuffer buffer(scene.film.width, scene.film.height, scene.film.samplesPerPixel, camera.farPlane());
-        runPatchVisibility(p.meshes, rasterizer, 1, buffer);
+        VisibilityBuffer buffer(scene.film.width, scene.film.height, scene.film.samplesPerPixel,
+                                camera.farPlane());
+        runPatchVisibility(p.meshes, rasterizer, 1, {&buffer, nullptr, nullptr, 0});
         benchmark::DoNotOptimize(buffer.records().data());
         ++frames;
     }
@@ -56,10 +58,13 @@ void visibility(benchmark::State& state, const SceneDesc& scene) {
     state.counters["ray-tri/ray"] = perFrame("RS/Ray-triangle tests") / perFrame("RS/Rays cast");
     state.counters["tiles"] = perFrame("RS/Tiles in bounds");
     state.counters["plane tests"] = perFrame("RS/Plane tests");
-    state.counters["rays/s"] = benchmark::Counter(perFrame("RS/Rays cast") * double(frames), benchmark::Counter::kIsRate);
+    state.counters["rays/s"] =
+        benchmark::Counter(perFrame("RS/Rays cast") * double(frames), benchmark::Counter::kIsRate);
 }
 
-void defaultScene(benchmark::State& state) { visibility(state, patchsim::defaultScene()); }
+void defaultScene(benchmark::State& state) {
+    visibility(state, patchsim::defaultScene());
+}
 BENCHMARK(defaultScene)->Unit(benchmark::kMillisecond);
 
 // The default scene with its motion scaled by 0.25, 1 and 4 (range(0) is the scale x 100).
@@ -68,7 +73,8 @@ void motionBlurLevel(benchmark::State& state) {
     const float scale = float(state.range(0)) / 100.0f;
     for (ObjectDesc& o : scene.objects) {
         o.close.translate = o.open.translate + scale * (o.close.translate - o.open.translate);
-        o.close.rotateDegrees = o.open.rotateDegrees + scale * (o.close.rotateDegrees - o.open.rotateDegrees);
+        o.close.rotateDegrees =
+            o.open.rotateDegrees + scale * (o.close.rotateDegrees - o.open.rotateDegrees);
     }
     scene.lens.apertureRadius = 0;
     visibility(state, scene);

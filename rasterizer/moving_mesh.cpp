@@ -3,9 +3,11 @@
 namespace patchsim {
 
 void toMovingMesh(const TessellatedPatch& patch, const Camera& camera, bool motion, int patchId,
-                  MovingMesh& out) {
+                  bool opaque, MovingMesh& out) {
     const std::size_t n = patch.tessellation.points.size();
     out.patchId = patchId;
+    out.objectId = patch.object;
+    out.opaque = opaque;
     out.position0.resize(n);
     out.position1.resize(n);
     out.domain.resize(n);

@@ -20,8 +20,10 @@ struct MovingMesh {
     std::vector<Vec3> position0, position1;
     std::vector<Vec2> domain;
     std::vector<std::uint32_t> indices;
-    int patchId =
-        -1;  // global patch index (ties in depth resolve to the lower patch, then triangle)
+    // Global patch index: hits at equal depth resolve to the lower patch, then triangle.
+    int patchId = -1;
+    int objectId = -1;
+    bool opaque = true;  // false: every hit goes to the transparent layers
 
     std::size_t triangleCount() const { return indices.size() / 3; }
     Vec3 vertexAt(std::uint32_t v, float t) const { return lerp(position0[v], position1[v], t); }
@@ -44,6 +46,6 @@ struct MovingMesh {
 // Camera-space mesh of a tessellated patch. Without motion (`motion` false) the t=1 positions are
 // the t=0 ones, so every box is static.
 void toMovingMesh(const TessellatedPatch& patch, const Camera& camera, bool motion, int patchId,
-                  MovingMesh& out);
+                  bool opaque, MovingMesh& out);
 
 }  // namespace patchsim

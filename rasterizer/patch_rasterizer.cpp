@@ -43,6 +43,12 @@ PATCHSIM_COUNTER("RS/Ray-triangle tests", "tests",
 PATCHSIM_COUNTER("RS/Visibility samples", "samples",
                  "Ray hits nearer than the sample's z-buffer depth, sent to the back end",
                  rsVisibilitySamples);
+PATCHSIM_COUNTER("OM/Transparent fragments", "fragments",
+                 "Transparent hits offered to a sample's layers", omTransparentFragments);
+PATCHSIM_COUNTER(
+    "OM/Transparent overflow", "fragments",
+    "Transparent fragments dropped because a sample's layers were full (the farthest goes)",
+    omTransparentOverflow);
 PATCHSIM_COUNTER(
     "RS/Full-screen bounds", "groups",
     "Groups whose boxes reach in front of the near plane: bounds fall back to the whole screen",
@@ -68,6 +74,8 @@ void WorkCounts::add(const WorkCounts& o) {
     fullScreenBounds += o.fullScreenBounds;
     overScratchBudget += o.overScratchBudget;
     patches += o.patches;
+    transparentFragments += o.transparentFragments;
+    transparentOverflow += o.transparentOverflow;
 }
 
 void WorkCounts::flush() const {
@@ -88,6 +96,8 @@ void WorkCounts::flush() const {
     rsFullScreen += fullScreenBounds;
     rsOverBudget += overScratchBudget;
     rsPatches += patches;
+    omTransparentFragments += transparentFragments;
+    omTransparentOverflow += transparentOverflow;
 }
 
 Ray sampleRay(const Camera& camera, const LensModel& lens, const SampleGenerator& samples, int x,
@@ -115,7 +125,39 @@ int intersectTriangles(const MovingMesh& mesh, const std::uint32_t* triangles, s
     return int(count);
 }
 
+int offerAllHits(const MovingMesh& mesh, const std::uint32_t* triangles, std::size_t count,
+                 const Ray& ray, float lambdaMin, float lambdaMax, TransparentLayers& layers,
+                 std::size_t sample, int pool, WorkCounts& work) {
+    const ShearedRay sheared = shearRay(ray);
+    for (std::size_t k = 0; k < count; ++k) {
+        const std::uint32_t tri = triangles[k];
+        const std::uint32_t* v = &mesh.indices[3 * std::size_t(tri)];
+        TriangleHit hit;
+        if (!intersectTriangle(sheared, mesh.vertexAt(v[0], ray.time),
+                               mesh.vertexAt(v[1], ray.time), mesh.vertexAt(v[2], ray.time),
+                               lambdaMin, lambdaMax, hit))
+            continue;
+        const LayerFragment f{{hit.lambda * ray.depthPerLambda, mesh.patchId, tri, hit.b1, hit.b2},
+                              mesh.objectId};
+        ++work.transparentFragments;
+        if (!layers.offer(sample, pool, f)) ++work.transparentOverflow;
+    }
+    return int(count);
+}
+
 namespace {
+
+void recordPixelWork(PixelWork& pixels, int x, int y, const WorkCounts& start,
+                     const WorkCounts& now) {
+    const std::size_t p = pixels.pixel(x, y);
+    pixels.samplesTested[p] += std::uint32_t(now.samplesTested - start.samplesTested);
+    pixels.raysCast[p] += std::uint32_t(now.raysCast - start.raysCast);
+    pixels.rayBoxTests[p] += std::uint32_t(now.rayBoxTests - start.rayBoxTests);
+    pixels.rayTriangleTests[p] += std::uint32_t(now.rayTriangleTests - start.rayTriangleTests);
+    pixels.visibilitySamples[p] +=
+        std::uint32_t(now.visibilitySamples - start.visibilitySamples + now.transparentFragments -
+                      start.transparentFragments);
+}
 
 // Per-ray slab constants: entry along an axis is x0 * A + x1 * B + C with A = (1-t)/d,
 // B = t/d, C = -o/d, i.e. ((1-t) x0 + t x1 - o) / d for the box face blended to the ray's time.
@@ -304,12 +346,16 @@ TileTraversal PatchRasterizer::traverseTile(const Group& group, const TileFrustu
 
 void PatchRasterizer::traceSamples(const MovingMesh& mesh, const Group& group, const TileRect& tile,
                                    const TileTraversal& traversal, int branchNode,
-                                   VisibilityBuffer& buffer, WorkCounts& work) const {
+                                   const VisibilityTargets& targets, WorkCounts& work) const {
     const PatchHierarchy& h = group.hierarchy;
+    VisibilityBuffer& buffer = *targets.opaque;
+    PixelWork* pixels = targets.pixelWork;
+    const bool everyHit = !mesh.opaque && targets.transparent != nullptr;
     const int spp = buffer.samplesPerPixel();
     const bool motion = effects_.motion;
     for (int y = tile.y0; y < tile.y1; ++y) {
         for (int x = tile.x0; x < tile.x1; ++x) {
+            const WorkCounts pixelStart = work;
             for (int s = 0; s < spp; ++s) {
                 ++work.samplesTested;
                 const Sample smp = samples_.sample(x, y, s);
@@ -323,12 +369,12 @@ void PatchRasterizer::traceSamples(const MovingMesh& mesh, const Group& group, c
                 ++work.raysCast;
                 const float lambdaMin = camera_.nearPlane() / ray.depthPerLambda;
                 const float bound =
-                    options_.zCulling ? buffer.depthBound(x, y, s) : camera_.farPlane();
+                    options_.zCulling || everyHit ? buffer.depthBound(x, y, s) : camera_.farPlane();
                 // Inclusive, slightly widened: an equal-depth hit must still reach the tie-break.
                 const float lambdaMax = bound / ray.depthPerLambda * (1.0f + 1e-6f);
                 const SlabRay slab = makeSlabRay(ray, lambdaMin, lambdaMax);
                 VisibilityRecord best = buffer.at(x, y, s);
-                const VisibilityRecord before = best;
+                const VisibilityRecord previous = best;
                 int stack[2 * kMaxLeaves];
                 int top = 0;
                 stack[top++] = branchNode;
@@ -341,39 +387,46 @@ void PatchRasterizer::traceSamples(const MovingMesh& mesh, const Group& group, c
                         const std::uint32_t* tris =
                             h.leafTriangles(node - PatchHierarchy::firstLeaf(h.depth()), count);
                         work.rayTriangleTests +=
-                            intersectTriangles(mesh, tris, count, ray, lambdaMin, lambdaMax, best);
+                            everyHit ? offerAllHits(mesh, tris, count, ray, lambdaMin, lambdaMax,
+                                                    *targets.transparent, buffer.index(x, y, s),
+                                                    targets.pool, work)
+                                     : intersectTriangles(mesh, tris, count, ray, lambdaMin,
+                                                          lambdaMax, best);
                         continue;
                     }
                     stack[top++] = 2 * node + 2;
                     stack[top++] = 2 * node + 1;
                 }
-                if (best.patch != before.patch || best.triangle != before.triangle ||
-                    best.depth != before.depth) {
+                if (best.patch != previous.patch || best.triangle != previous.triangle ||
+                    best.depth != previous.depth) {
                     ++work.visibilitySamples;
                     buffer.offer(x, y, s, best);
                 }
             }
+            if (pixels) recordPixelWork(*pixels, x, y, pixelStart, work);
         }
     }
 }
 
 void PatchRasterizer::rasterizeTile(const MovingMesh& mesh, const Group& group, int tileX,
-                                    int tileY, VisibilityBuffer& buffer, WorkCounts& work) const {
+                                    int tileY, const VisibilityTargets& targets,
+                                    WorkCounts& work) const {
     const int t = options_.tileSize;
     const TileRect tile{tileX * t, tileY * t, std::min((tileX + 1) * t, camera_.width()),
                         std::min((tileY + 1) * t, camera_.height())};
     ++work.tilesInBounds;
-    const TileTraversal traversal = traverseTile(group, tileFrustum(tile, buffer), work);
+    if (targets.pixelWork) ++targets.pixelWork->tileTests[targets.pixelWork->tile(tileX, tileY)];
+    const TileTraversal traversal = traverseTile(group, tileFrustum(tile, *targets.opaque), work);
     if (!traversal.overlaps) return;
     ++work.tilesOverlapping;
     int branch = 0;
     if (options_.branchMethod == BranchMethod::FirstSplit) branch = traversal.firstSplitNode;
     if (options_.branchMethod == BranchMethod::Bitmask) branch = traversal.bitmaskNode;
     work.branchDepthSum += group.hierarchy.levelOf(branch);
-    traceSamples(mesh, group, tile, traversal, branch, buffer, work);
+    traceSamples(mesh, group, tile, traversal, branch, targets, work);
 }
 
-void PatchRasterizer::rasterize(const MovingMesh& mesh, VisibilityBuffer& buffer,
+void PatchRasterizer::rasterize(const MovingMesh& mesh, const VisibilityTargets& targets,
                                 WorkCounts& work) {
     ++work.patches;
     splitIntoGroups(mesh, options_.maxTrianglesPerGroup, order_, groupBegin_);
@@ -383,7 +436,7 @@ void PatchRasterizer::rasterize(const MovingMesh& mesh, VisibilityBuffer& buffer
         prepareGroup(mesh, order_.data() + begin, end - begin, group_, work);
         for (int ty = group_.tileY0; ty < group_.tileY1; ++ty)
             for (int tx = group_.tileX0; tx < group_.tileX1; ++tx)
-                rasterizeTile(mesh, group_, tx, ty, buffer, work);
+                rasterizeTile(mesh, group_, tx, ty, targets, work);
     }
 }
 

@@ -19,7 +19,9 @@
 #include "pipeline/core/ray.h"
 #include "pipeline/core/samples.h"
 #include "rasterizer/patch_hierarchy.h"
+#include "rasterizer/pixel_work.h"
 #include "rasterizer/tile_frustum.h"
+#include "rasterizer/transparent_layers.h"
 #include "rasterizer/visibility_buffer.h"
 
 namespace patchsim {
@@ -33,6 +35,7 @@ struct WorkCounts {
     std::int64_t samplesTested = 0, samplesRejectedTime = 0, raysCast = 0;
     std::int64_t rayBoxTests = 0, rayTriangleTests = 0, visibilitySamples = 0;
     std::int64_t fullScreenBounds = 0, overScratchBudget = 0, patches = 0;
+    std::int64_t transparentFragments = 0, transparentOverflow = 0;
     void add(const WorkCounts& o);
     void flush() const;  // into the RS/ thread-local counters
 };
@@ -46,13 +49,23 @@ struct TileTraversal {
     int bitmaskNode = -1;     // bottom-most node above exactly all overlapping leaves
 };
 
+// Where visibility samples go: the nearest opaque hit per sample, every transparent hit (when the
+// scene has transparency), and optionally per-pixel work for heat maps. `pool` names the
+// transparent-layer pool the calling worker owns.
+struct VisibilityTargets {
+    VisibilityBuffer* opaque = nullptr;
+    TransparentLayers* transparent = nullptr;
+    PixelWork* pixelWork = nullptr;
+    int pool = 0;
+};
+
 class PatchRasterizer {
   public:
     PatchRasterizer(const Camera& camera, const LensModel& lens, const SampleGenerator& samples,
                     const Effects& effects, const RasterizerOptions& options);
 
-    // Rasterizes every group of a mesh into `buffer`, single-threaded.
-    void rasterize(const MovingMesh& mesh, VisibilityBuffer& buffer, WorkCounts& work);
+    // Rasterizes every group of a mesh, single-threaded.
+    void rasterize(const MovingMesh& mesh, const VisibilityTargets& targets, WorkCounts& work);
 
     // Steps, public so a driver can spread tiles over threads and tests can look inside.
     struct Group {
@@ -65,15 +78,15 @@ class PatchRasterizer {
                                WorkCounts& work) const;
     TileFrustum tileFrustum(const TileRect& tile, const VisibilityBuffer& buffer) const;
     void rasterizeTile(const MovingMesh& mesh, const Group& group, int tileX, int tileY,
-                       VisibilityBuffer& buffer, WorkCounts& work) const;
+                       const VisibilityTargets& targets, WorkCounts& work) const;
 
     const RasterizerOptions& options() const { return options_; }
 
   private:
     void screenBounds(const PatchHierarchy& h, float bounds[4], WorkCounts& work) const;
     void traceSamples(const MovingMesh& mesh, const Group& group, const TileRect& tile,
-                      const TileTraversal& traversal, int branchNode, VisibilityBuffer& buffer,
-                      WorkCounts& work) const;
+                      const TileTraversal& traversal, int branchNode,
+                      const VisibilityTargets& targets, WorkCounts& work) const;
 
     const Camera& camera_;
     LensModel lens_;
@@ -93,5 +106,11 @@ Ray sampleRay(const Camera& camera, const LensModel& lens, const SampleGenerator
 // (tie-break by depth, patch, triangle). Returns the number of triangle tests.
 int intersectTriangles(const MovingMesh& mesh, const std::uint32_t* triangles, std::size_t count,
                        const Ray& ray, float lambdaMin, float lambdaMax, VisibilityRecord& best);
+
+// Every hit of a ray against the given triangles, offered to a sample's transparent layers.
+// Returns the number of triangle tests; counts fragments and overflow into `work`.
+int offerAllHits(const MovingMesh& mesh, const std::uint32_t* triangles, std::size_t count,
+                 const Ray& ray, float lambdaMin, float lambdaMax, TransparentLayers& layers,
+                 std::size_t sample, int pool, WorkCounts& work);
 
 }  // namespace patchsim

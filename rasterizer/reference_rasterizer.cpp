@@ -14,8 +14,10 @@ PATCHSIM_COUNTER("REF/Visibility samples", "samples", "Reference samples that hi
 
 void renderReferenceRows(const std::vector<MovingMesh>& meshes, const Camera& camera,
                          const LensModel& lens, const SampleGenerator& samples, int y0, int y1,
-                         VisibilityBuffer& buffer, ReferenceWork& total) {
+                         const VisibilityTargets& targets, ReferenceWork& total) {
     ReferenceWork work;
+    WorkCounts layerWork;
+    VisibilityBuffer& buffer = *targets.opaque;
     std::vector<std::uint32_t> all;
     for (int y = y0; y < y1; ++y) {
         for (int x = 0; x < buffer.width(); ++x) {
@@ -25,10 +27,23 @@ void renderReferenceRows(const std::vector<MovingMesh>& meshes, const Camera& ca
                 const float lambdaMax = camera.farPlane() / ray.depthPerLambda;
                 VisibilityRecord best;
                 for (const MovingMesh& mesh : meshes) {
+                    if (!mesh.opaque && targets.transparent) continue;
                     all.resize(mesh.triangleCount());
                     for (std::size_t i = 0; i < all.size(); ++i) all[i] = std::uint32_t(i);
                     work.triangleTests += intersectTriangles(mesh, all.data(), all.size(), ray,
                                                              lambdaMin, lambdaMax, best);
+                }
+                // Transparent surfaces in front of the nearest opaque one (inclusive, widened as
+                // the patch method does, so both keep the same fragments).
+                const float opaqueLambda =
+                    best.hit() ? best.depth / ray.depthPerLambda * (1.0f + 1e-6f) : lambdaMax;
+                for (const MovingMesh& mesh : meshes) {
+                    if (mesh.opaque || !targets.transparent) continue;
+                    all.resize(mesh.triangleCount());
+                    for (std::size_t i = 0; i < all.size(); ++i) all[i] = std::uint32_t(i);
+                    work.triangleTests += offerAllHits(
+                        mesh, all.data(), all.size(), ray, lambdaMin, opaqueLambda,
+                        *targets.transparent, buffer.index(x, y, s), targets.pool, layerWork);
                 }
                 ++work.samples;
                 if (best.hit()) {
@@ -44,6 +59,7 @@ void renderReferenceRows(const std::vector<MovingMesh>& meshes, const Camera& ca
     refSamples += work.samples;
     refTriangleTests += work.triangleTests;
     refHits += work.hits;
+    layerWork.flush();
 }
 
 }  // namespace patchsim

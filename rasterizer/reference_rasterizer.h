@@ -10,7 +10,7 @@
 #include "pipeline/core/ray.h"
 #include "pipeline/core/samples.h"
 #include "rasterizer/moving_mesh.h"
-#include "rasterizer/visibility_buffer.h"
+#include "rasterizer/patch_rasterizer.h"
 
 namespace patchsim {
 
@@ -18,9 +18,10 @@ struct ReferenceWork {
     std::int64_t samples = 0, triangleTests = 0, hits = 0;
 };
 
-// Rows [y0, y1) of the frame; every sample's record becomes the nearest hit over all meshes.
+// Rows [y0, y1) of the frame; every sample's record becomes the nearest opaque hit over all
+// meshes, and every transparent hit in front of it goes to the transparent layers.
 void renderReferenceRows(const std::vector<MovingMesh>& meshes, const Camera& camera,
                          const LensModel& lens, const SampleGenerator& samples, int y0, int y1,
-                         VisibilityBuffer& buffer, ReferenceWork& work);
+                         const VisibilityTargets& targets, ReferenceWork& work);
 
 }  // namespace patchsim

@@ -162,21 +162,24 @@ TEST(Cli, RenderRejectsBadRasterizerOptions) {
     r = run("render -q -o " + dir + " --branch-method sideways");
     EXPECT_NE(r.exitCode, 0);
     EXPECT_NE(r.output.find("--branch-method"), std::string::npos) << r.output;
-    const std::string scene = writeFile("raster.json",
-                                        R"({"rasterizer": {"leaf_size": 4, "max_triangles_per_group": 1000}, "objects": [{"cage": "x.obj"}]})");
+    const std::string scene = writeFile(
+        "raster.json",
+        R"({"rasterizer": {"leaf_size": 4, "max_triangles_per_group": 1000}, "objects": [{"cage": "x.obj"}]})");
     r = run("render -q " + scene + " -o " + dir);
     EXPECT_NE(r.exitCode, 0);
-    EXPECT_NE(r.output.find("raster.json: rasterizer.max_triangles_per_group"), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("raster.json: rasterizer.max_triangles_per_group"), std::string::npos)
+        << r.output;
     EXPECT_FALSE(fs::exists(dir + "/image.png"));
 }
 
 TEST(Cli, VerifyTilesReportsEveryVariantWithoutFalseRejects) {
     const CommandResult r = run("verify-tiles --cases 300");
     EXPECT_EQ(r.exitCode, 0) << r.output;
-    for (const char* variant : {"pinhole-n-vertex:", "pinhole-n-vertex-time-interval:", "lens-two-plane:",
-                                "lens-two-plane-time-interval:"})
-        EXPECT_NE(r.output.find(std::string(variant) + " cases 300, false rejects 0, false accepts"),
-                  std::string::npos)
+    for (const char* variant : {"pinhole-n-vertex:", "pinhole-n-vertex-time-interval:",
+                                "lens-two-plane:", "lens-two-plane-time-interval:"})
+        EXPECT_NE(
+            r.output.find(std::string(variant) + " cases 300, false rejects 0, false accepts"),
+            std::string::npos)
             << r.output;
 }
 

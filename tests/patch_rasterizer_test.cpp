@@ -5,6 +5,7 @@
 #include <cmath>
 #include <filesystem>
 #include <random>
+#include <tuple>
 
 #include "pipeline/core/counters.h"
 #include "pipeline/core/scene_reader.h"
@@ -33,15 +34,29 @@ struct Comparison {
     std::size_t samples = 0, hits = 0, mismatches = 0;
 };
 
-// Sample for sample: the same patch, triangle and depth bits.
-Comparison compare(const VisibilityBuffer& a, const VisibilityBuffer& b) {
+std::vector<std::tuple<float, int, std::uint32_t>> layerList(const TransparentLayers* layers,
+                                                             std::size_t i) {
+    std::vector<std::tuple<float, int, std::uint32_t>> list;
+    if (!layers) return list;
+    for (int k = 0; k < layers->count(i); ++k) {
+        const VisibilityRecord& r = layers->layers(i)[k].record;
+        list.emplace_back(r.depth, r.patch, r.triangle);
+    }
+    std::sort(list.begin(), list.end());
+    return list;
+}
+
+// Sample for sample: the same patch, triangle and depth bits, and the same transparent layers.
+Comparison compare(const RenderResult& a, const RenderResult& b) {
     Comparison c;
-    for (std::size_t i = 0; i < a.records().size(); ++i) {
-        const VisibilityRecord& x = a.records()[i];
-        const VisibilityRecord& y = b.records()[i];
+    for (std::size_t i = 0; i < a.visibility->records().size(); ++i) {
+        const VisibilityRecord& x = a.visibility->records()[i];
+        const VisibilityRecord& y = b.visibility->records()[i];
         ++c.samples;
         c.hits += x.hit();
         if (x.patch != y.patch || (x.hit() && (x.triangle != y.triangle || x.depth != y.depth)))
+            ++c.mismatches;
+        else if (layerList(a.transparent.get(), i) != layerList(b.transparent.get(), i))
             ++c.mismatches;
     }
     return c;
@@ -52,7 +67,7 @@ TEST(PatchRasterizer, MatchesTheReferenceOnEveryShippedScene) {
         const SceneDesc scene = smallScene(readSceneFile(path));
         const RenderResult patch = renderWith(scene, VisibilityMethod::Patch);
         const RenderResult reference = renderWith(scene, VisibilityMethod::Reference);
-        const Comparison c = compare(*patch.visibility, *reference.visibility);
+        const Comparison c = compare(patch, reference);
         EXPECT_GT(c.hits, c.samples / 20) << path << ": the scene should cover the frame";
         EXPECT_EQ(c.mismatches, 0u)
             << path << ": " << c.mismatches << " of " << c.samples << " samples differ";
@@ -96,7 +111,7 @@ TEST(PatchRasterizer, EveryOptionGivesTheReferenceVisibility) {
         SceneDesc scene = base;
         scene.rasterizer = options;
         const RenderResult patch = renderWith(scene, VisibilityMethod::Patch);
-        EXPECT_EQ(compare(*patch.visibility, *reference.visibility).mismatches, 0u) << name;
+        EXPECT_EQ(compare(patch, reference).mismatches, 0u) << name;
     }
 }
 
@@ -123,7 +138,7 @@ TEST(PatchRasterizer, MatchesTheReferenceOnRandomMovingDefocusedPatches) {
         scene.objects.push_back(torus);
         const RenderResult patch = renderWith(scene, VisibilityMethod::Patch);
         const RenderResult reference = renderWith(scene, VisibilityMethod::Reference);
-        const Comparison c = compare(*patch.visibility, *reference.visibility);
+        const Comparison c = compare(patch, reference);
         EXPECT_EQ(c.mismatches, 0u) << "trial " << trial;
     }
 }
@@ -149,11 +164,11 @@ TEST(PatchRasterizer, PatchCrossingTheCameraPlaneMatchesTheReference) {
         const RenderResult patch = renderWith(scene, VisibilityMethod::Patch);
         const CounterValues counters = CounterRegistry::instance().snapshot();
         const RenderResult reference = renderWith(scene, VisibilityMethod::Reference);
-        const Comparison c = compare(*patch.visibility, *reference.visibility);
+        const Comparison c = compare(patch, reference);
         EXPECT_GT(counters.at("RS/Full-screen bounds"), 0);
         EXPECT_GT(c.hits, 0u);
         EXPECT_EQ(c.mismatches, 0u) << "aperture " << aperture;
-        for (float v : patch.image.rgb) ASSERT_TRUE(std::isfinite(v));
+        for (float v : patch.frame.color.rgb) ASSERT_TRUE(std::isfinite(v));
     }
 }
 
@@ -166,7 +181,7 @@ TEST(PatchRasterizer, ImagesAndCountersDoNotDependOnTheThreadCount) {
     CounterRegistry::instance().reset();
     const RenderResult two = renderWith(scene, VisibilityMethod::Patch, 2);
     const CounterValues countersTwo = CounterRegistry::instance().snapshot();
-    EXPECT_EQ(one.image.rgb, two.image.rgb);
+    EXPECT_EQ(one.frame.color.rgb, two.frame.color.rgb);
     EXPECT_EQ(countersOne, countersTwo);
 }
 
@@ -211,7 +226,7 @@ TEST(PatchRasterizer, BitmaskBranchIsNeverAboveFirstSplit) {
         TessellatedPatch patch;
         fe.tessellate(i, patch, ws);
         MovingMesh mesh;
-        toMovingMesh(patch, fe.camera(), effects.motion, int(i), mesh);
+        toMovingMesh(patch, fe.camera(), effects.motion, int(i), true, mesh);
         std::vector<std::uint32_t> all(mesh.triangleCount());
         for (std::size_t k = 0; k < all.size(); ++k) all[k] = std::uint32_t(k);
         PatchRasterizer::Group group;
@@ -240,12 +255,12 @@ TEST(PatchRasterizer, BitmaskBranchIsNeverAboveFirstSplit) {
 TEST(PatchRasterizer, WritesABlurredImage) {
     const SceneDesc scene = smallScene(defaultScene(), 80, 60, 8);
     const RenderResult r = renderWith(scene, VisibilityMethod::Patch);
-    ASSERT_EQ(r.image.width, 80);
+    ASSERT_EQ(r.frame.color.width, 80);
     double sum = 0;
     std::size_t partial = 0;  // pixels whose samples disagree: blur (or an edge)
     for (int y = 0; y < 60; ++y) {
         for (int x = 0; x < 80; ++x) {
-            const Vec3 c = r.image.get(x, y);
+            const Vec3 c = r.frame.color.get(x, y);
             ASSERT_TRUE(std::isfinite(c.x) && std::isfinite(c.y) && std::isfinite(c.z));
             sum += c.x + c.y + c.z;
             int hits = 0;

@@ -6,6 +6,7 @@
 #include <iostream>
 #include <optional>
 
+#include "backend/heat_map.h"
 #include "backend/image.h"
 #include "pipeline/core/error.h"
 #include "pipeline/core/scene_reader.h"
@@ -87,6 +88,9 @@ struct RenderCommand {
     std::optional<int> tileSize, leafSize, boundsLevel, maxTrianglesPerGroup;
     std::optional<std::string> branchMethod;
     bool noTimeRefinement = false, noZCulling = false, quiet = false;
+    std::string filter = "box", shadingRate = "per-fragment";
+    int maxLayers = 16;
+    bool heatMaps = false, noProgress = false;
 };
 
 void addRenderOptions(CLI::App& cmd, RenderCommand& r) {
@@ -106,6 +110,16 @@ void addRenderOptions(CLI::App& cmd, RenderCommand& r) {
                  "Do not narrow time intervals at leaves");
     cmd.add_flag("--no-z-culling", r.noZCulling, "Do not cull against the z-buffer");
     cmd.add_flag("-q,--quiet", r.quiet, "Do not print the counter table");
+    cmd.add_option("--filter", r.filter, "Resolve filter")
+        ->check(CLI::IsMember({"box", "gaussian"}));
+    cmd.add_option("--shading-rate", r.shadingRate,
+                   "per-fragment (every t-fragment) or per-pixel-primitive (MSAA-style reuse)")
+        ->check(CLI::IsMember({"per-fragment", "per-pixel-primitive"}));
+    cmd.add_option("--max-layers", r.maxLayers, "Transparent t-fragments kept per sample")
+        ->check(CLI::Range(1, 255));
+    cmd.add_flag("--heatmaps", r.heatMaps,
+                 "Also write per-pixel and per-tile heat maps of the rasterizer's work");
+    cmd.add_flag("--no-progress", r.noProgress, "No progress bar");
 }
 
 int runRender(const RenderCommand& r) {
@@ -126,31 +140,44 @@ int runRender(const RenderCommand& r) {
         r.method == "reference" ? VisibilityMethod::Reference : VisibilityMethod::Patch;
     options.overrides = r.common.overrides;
     options.threads = r.common.threads;
+    options.maxLayers = r.maxLayers;
+    options.resolve.filter = r.filter == "gaussian" ? ResolveFilter::Gaussian : ResolveFilter::Box;
+    options.resolve.shadingRate = r.shadingRate == "per-pixel-primitive"
+                                      ? ShadingRate::PerPixelPrimitive
+                                      : ShadingRate::PerFragment;
+    options.heatMaps = r.heatMaps;
+    options.progress = !r.noProgress;
     CounterRegistry::instance().reset();
     const RenderResult result = renderScene(scene, options);
-    if (result.effects.transparency)
-        std::cerr << "patchsim: warning: the scene calls for transparency, which the back end does not "
-                     "blend yet (issue 4): surfaces are rendered opaque\n";
     const CounterValues counters = CounterRegistry::instance().snapshot();
     std::filesystem::create_directories(r.outputDir);
-    writeExr(result.image, r.outputDir + "/image.exr");
-    writePng(result.image, r.outputDir + "/image.png");
+    writeExrWithAovs(result.frame, r.outputDir + "/image.exr");
+    writePng(result.frame.color, r.outputDir + "/image.png");
+    std::vector<std::string> heatMaps;
+    if (result.pixelWork) heatMaps = writeHeatMaps(*result.pixelWork, r.outputDir);
     const std::int64_t tested = counters.at("RS/Samples tested");
     const double ste = tested ? double(counters.at("RS/Visibility samples")) / double(tested) : 0.0;
+    const std::int64_t shaded = counters.at("PS/Invocations"), reused = counters.at("PS/Reused");
     StatsContext context{"render", scene.path, {}};
-    context.facts = {{"method", visibilityMethodName(options.method)},
-                     {"mode", describeMode(result.effects)},
-                     {"width", std::to_string(scene.film.width)},
-                     {"height", std::to_string(scene.film.height)},
-                     {"spp", std::to_string(scene.film.samplesPerPixel)},
-                     {"patches", std::to_string(result.patches)},
-                     {"triangles", std::to_string(result.triangles)},
-                     {"sample test efficiency", std::to_string(ste)},
-                     {"tile size", std::to_string(o.tileSize)},
-                     {"leaf size", std::to_string(o.leafSize)},
-                     {"branch method", branchMethodName(o.branchMethod)},
-                     {"time refinement", o.timeRefinement ? "on" : "off"},
-                     {"z culling", o.zCulling ? "on" : "off"}};
+    context.facts = {
+        {"method", visibilityMethodName(options.method)},
+        {"mode", describeMode(result.effects)},
+        {"width", std::to_string(scene.film.width)},
+        {"height", std::to_string(scene.film.height)},
+        {"spp", std::to_string(scene.film.samplesPerPixel)},
+        {"patches", std::to_string(result.patches)},
+        {"triangles", std::to_string(result.triangles)},
+        {"sample test efficiency", std::to_string(ste)},
+        {"shading rate", shadingRateName(options.resolve.shadingRate)},
+        {"shading reuse rate",
+         std::to_string(shaded + reused ? double(reused) / double(shaded + reused) : 0.0)},
+        {"filter", resolveFilterName(options.resolve.filter)},
+        {"max layers", std::to_string(options.maxLayers)},
+        {"tile size", std::to_string(o.tileSize)},
+        {"leaf size", std::to_string(o.leafSize)},
+        {"branch method", branchMethodName(o.branchMethod)},
+        {"time refinement", o.timeRefinement ? "on" : "off"},
+        {"z culling", o.zCulling ? "on" : "off"}};
     writeStats(r.outputDir + "/stats.json", context);
     if (!r.quiet) printCounterTable(std::cout, counters);
     std::cout << "rendered " << scene.path << " (" << describeMode(result.effects) << ") with the "
@@ -158,7 +185,10 @@ int runRender(const RenderCommand& r) {
               << " patches, " << result.triangles << " triangles; front end "
               << result.frontEndSeconds << " s, visibility " << result.visibilitySeconds
               << " s, shading " << result.shadingSeconds << " s; STE " << ste << "\nwrote "
-              << r.outputDir << "/image.exr, image.png, stats.json\n";
+              << r.outputDir
+              << "/image.exr (R G B Z coverage motion.x motion.y), image.png, stats.json";
+    if (!heatMaps.empty()) std::cout << " and " << heatMaps.size() << " heat maps";
+    std::cout << "\n";
     return 0;
 }
 

@@ -7,7 +7,8 @@ Effects detectEffects(const SceneDesc& scene, bool geometryMoves, bool cameraMov
     e.motion = (geometryMoves || cameraMoves) && scene.shutter.close > scene.shutter.open;
     e.defocus = scene.lens.apertureRadius > 0.0f;
     for (const ObjectDesc& o : scene.objects)
-        e.transparency = e.transparency || o.material.opacity < 1.0f;
+        e.transparency =
+            e.transparency || o.material.opacity < 1.0f || o.material.closeOpacity < 1.0f;
     return e;
 }
 

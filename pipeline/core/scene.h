@@ -71,9 +71,14 @@ struct TransformDesc {
 enum class SubdivisionScheme : std::uint8_t { Catmark, Loop, Bilinear };
 const char* schemeName(SubdivisionScheme s);
 
+// Colour and opacity at shutter open, and (`close`) at shutter close; a t-fragment blends them
+// at its time. An unlit material shows its colour as is (no lighting, no texture).
 struct MaterialDesc {
     Vec3 color{0.8f, 0.8f, 0.8f};
     float opacity = 1.0f;
+    Vec3 closeColor{0.8f, 0.8f, 0.8f};
+    float closeOpacity = 1.0f;
+    bool unlit = false;
 };
 
 struct ObjectDesc {

@@ -280,6 +280,20 @@ ObjectDesc readObject(ObjectReader r, const std::string& baseDir, std::size_t in
     if (auto material = r.object("material")) {
         o.material.color = material->vec3("color", o.material.color, 0, kHuge);
         o.material.opacity = static_cast<float>(material->number("opacity", 1.0, 0, 1));
+        o.material.closeColor = o.material.color;
+        o.material.closeOpacity = o.material.opacity;
+        if (auto close = material->object("close")) {
+            o.material.closeColor = close->vec3("color", o.material.color, 0, kHuge);
+            o.material.closeOpacity =
+                static_cast<float>(close->number("opacity", o.material.opacity, 0, 1));
+            close->finish();
+        }
+        if (const Json* j = material->find("unlit")) {
+            if (!j->is_boolean())
+                material->fail(material->fieldName("unlit"),
+                               "expected true or false, found " + typeName(*j));
+            o.material.unlit = j->get<bool>();
+        }
         material->finish();
     }
     r.finish();

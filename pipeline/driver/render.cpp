@@ -1,10 +1,12 @@
 #include "pipeline/driver/render.h"
 
 #include <chrono>
+#include <numeric>
+#include <random>
 
-#include "backend/shading.h"
-#include "pipeline/driver/parallel.h"
-#include "rasterizer/patch_rasterizer.h"
+#include "pipeline/core/error.h"
+#include "pipeline/core/parallel.h"
+#include "pipeline/driver/progress.h"
 #include "rasterizer/reference_rasterizer.h"
 #include "tessellator/front_end.h"
 
@@ -16,44 +18,52 @@ double secondsSince(std::chrono::steady_clock::time_point start) {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
-struct PreparedPatch {
-    std::vector<PatchRasterizer::Group> groups;
-};
+// Tile rows are dealt to this many classes (independent of the thread count); each class owns
+// one pool of transparent layers.
+constexpr int kRowClasses = TransparentLayers::kPools;
 
 }  // namespace
 
 void runPatchVisibility(const std::vector<MovingMesh>& meshes, const PatchRasterizer& rasterizer,
-                        int workers, VisibilityBuffer& buffer) {
-    const int tileSize = rasterizer.options().tileSize;
-    const int tileRows = (buffer.height() + tileSize - 1) / tileSize;
+                        int threads, const VisibilityTargets& targets,
+                        const std::vector<std::size_t>& orderIn, Progress* progress) {
+    std::vector<std::size_t> order = orderIn;
+    if (order.empty()) {
+        order.resize(meshes.size());
+        std::iota(order.begin(), order.end(), std::size_t(0));
+    }
     // Hierarchies and screen bounds per group, once per patch.
-    std::vector<PreparedPatch> prepared(meshes.size());
-    std::vector<WorkCounts> prepareWork(std::size_t(resolveThreadCount(workers)));
-    parallelFor(meshes.size(), workers, [&](int w, std::size_t i) {
-        ++prepareWork[std::size_t(w)].patches;
-        std::vector<std::uint32_t> order, groupBegin;
-        splitIntoGroups(meshes[i], rasterizer.options().maxTrianglesPerGroup, order, groupBegin);
+    std::vector<std::vector<PatchRasterizer::Group>> groups(meshes.size());
+    std::vector<WorkCounts> prepareWork(std::size_t(resolveThreadCount(threads)));
+    parallelFor(meshes.size(), threads, [&](int w, std::size_t i) {
+        WorkCounts& work = prepareWork[std::size_t(w)];
+        ++work.patches;
+        std::vector<std::uint32_t> triangles, groupBegin;
+        splitIntoGroups(meshes[i], rasterizer.options().maxTrianglesPerGroup, triangles,
+                        groupBegin);
         for (std::size_t g = 0; g + 1 < groupBegin.size(); ++g) {
             if (groupBegin[g] == groupBegin[g + 1]) continue;
-            prepared[i].groups.emplace_back();
-            rasterizer.prepareGroup(meshes[i], order.data() + groupBegin[g],
-                                    groupBegin[g + 1] - groupBegin[g], prepared[i].groups.back(),
-                                    prepareWork[std::size_t(w)]);
+            groups[i].emplace_back();
+            rasterizer.prepareGroup(meshes[i], triangles.data() + groupBegin[g],
+                                    groupBegin[g + 1] - groupBegin[g], groups[i].back(), work);
         }
     });
     for (const WorkCounts& w : prepareWork) w.flush();
-    // Tile rows round-robin over a fixed number of row classes (independent of the thread count).
-    constexpr int kRowClasses = 16;
-    parallelFor(kRowClasses, workers, [&](int, std::size_t rowClass) {
+    const int tileSize = rasterizer.options().tileSize;
+    const int tileRows = (targets.opaque->height() + tileSize - 1) / tileSize;
+    parallelFor(kRowClasses, threads, [&](int, std::size_t rowClass) {
         WorkCounts work;
-        for (std::size_t i = 0; i < meshes.size(); ++i) {
-            for (const PatchRasterizer::Group& group : prepared[i].groups) {
-                for (int ty = group.tileY0; ty < group.tileY1; ++ty) {
-                    if (ty % kRowClasses != int(rowClass) || ty >= tileRows) continue;
+        VisibilityTargets mine = targets;
+        mine.pool = int(rowClass);
+        for (std::size_t i : order) {
+            for (const PatchRasterizer::Group& group : groups[i]) {
+                for (int ty = group.tileY0; ty < std::min(group.tileY1, tileRows); ++ty) {
+                    if (ty % kRowClasses != int(rowClass)) continue;
                     for (int tx = group.tileX0; tx < group.tileX1; ++tx)
-                        rasterizer.rasterizeTile(meshes[i], group, tx, ty, buffer, work);
+                        rasterizer.rasterizeTile(meshes[i], group, tx, ty, mine, work);
                 }
             }
+            if (progress) progress->advance();
         }
         work.flush();
     });
@@ -65,6 +75,8 @@ const char* visibilityMethodName(VisibilityMethod m) {
 
 RenderResult renderScene(const SceneDesc& scene, const RenderOptions& options) {
     scene.rasterizer.validate(scene.path);
+    if (options.maxLayers < 1 || options.maxLayers > 255)
+        throw InputError("command line", "--max-layers", "must be in [1, 255]");
     RenderResult result;
     const int workers = resolveThreadCount(options.threads);
     auto start = std::chrono::steady_clock::now();
@@ -73,15 +85,24 @@ RenderResult renderScene(const SceneDesc& scene, const RenderOptions& options) {
         applyOverrides(detectEffects(scene, frontEnd.geometryMoves(), frontEnd.camera().moves()),
                        options.overrides);
     const Camera& camera = frontEnd.camera();
-    std::vector<TessellatedPatch> patches(frontEnd.patchCount());
-    std::vector<MovingMesh> meshes(patches.size());
+    const std::size_t count = frontEnd.patchCount();
+    std::vector<TessellatedPatch> patches(count);
+    std::vector<MovingMesh> meshes(count);
     std::vector<FrontEndWorkspace> workspaces;
     for (int w = 0; w < workers; ++w) workspaces.push_back(frontEnd.makeWorkspace());
-    parallelFor(patches.size(), workers, [&](int w, std::size_t i) {
-        frontEnd.tessellate(i, patches[i], workspaces[std::size_t(w)]);
-        toMovingMesh(patches[i], camera, result.effects.motion, int(i), meshes[i]);
-    });
-    result.patches = patches.size();
+    {
+        Progress progress("front end ", std::int64_t(count), 1, options.progress);
+        parallelFor(count, workers, [&](int w, std::size_t i) {
+            frontEnd.tessellate(i, patches[i], workspaces[std::size_t(w)]);
+            const MaterialDesc& m =
+                frontEnd.objects()[std::size_t(patches[i].object)].desc.material;
+            const bool opaque =
+                !result.effects.transparency || (m.opacity >= 1.0f && m.closeOpacity >= 1.0f);
+            toMovingMesh(patches[i], camera, result.effects.motion, int(i), opaque, meshes[i]);
+            progress.advance();
+        });
+    }
+    result.patches = count;
     for (const TessellatedPatch& p : patches) result.triangles += p.triangleCount();
     result.frontEndSeconds = secondsSince(start);
 
@@ -91,24 +112,43 @@ RenderResult renderScene(const SceneDesc& scene, const RenderOptions& options) {
                          scene.lens.focusDistance};
     result.visibility = std::make_unique<VisibilityBuffer>(
         scene.film.width, scene.film.height, scene.film.samplesPerPixel, camera.farPlane());
-    VisibilityBuffer& buffer = *result.visibility;
+    if (result.effects.transparency)
+        result.transparent = std::make_unique<TransparentLayers>(
+            result.visibility->records().size(), options.maxLayers);
+    if (options.heatMaps)
+        result.pixelWork = std::make_unique<PixelWork>(scene.film.width, scene.film.height,
+                                                       scene.rasterizer.tileSize);
+    VisibilityTargets targets{result.visibility.get(), result.transparent.get(),
+                              result.pixelWork.get(), 0};
     if (options.method == VisibilityMethod::Patch) {
+        std::vector<std::size_t> order;
+        if (options.patchOrderSeed) {
+            order.resize(count);
+            std::iota(order.begin(), order.end(), std::size_t(0));
+            std::shuffle(order.begin(), order.end(), std::mt19937_64(options.patchOrderSeed));
+        }
         const PatchRasterizer rasterizer(camera, lens, samples, result.effects, scene.rasterizer);
-        runPatchVisibility(meshes, rasterizer, workers, buffer);
+        Progress progress("visibility", std::int64_t(count) * kRowClasses, kRowClasses,
+                          options.progress);
+        runPatchVisibility(meshes, rasterizer, workers, targets, order, &progress);
     } else {
-        constexpr int kBands = 64;
-        parallelFor(kBands, workers, [&](int, std::size_t band) {
+        Progress progress("reference ", kRowClasses, 1, options.progress);
+        parallelFor(kRowClasses, workers, [&](int, std::size_t band) {
             ReferenceWork work;
-            const int y0 = int(band) * scene.film.height / kBands,
-                      y1 = int(band + 1) * scene.film.height / kBands;
-            renderReferenceRows(meshes, camera, lens, samples, y0, y1, buffer, work);
+            VisibilityTargets mine = targets;
+            mine.pool = int(band);
+            const int y0 = int(band) * scene.film.height / kRowClasses;
+            const int y1 = int(band + 1) * scene.film.height / kRowClasses;
+            renderReferenceRows(meshes, camera, lens, samples, y0, y1, mine, work);
+            progress.advance();
         });
     }
     result.visibilitySeconds = secondsSince(start);
 
     start = std::chrono::steady_clock::now();
-    const ShadingContext context{&frontEnd, &patches, &camera, &samples};
-    result.image = resolveBox(context, buffer);
+    const ShadingContext context{&frontEnd, &patches, &meshes, &camera, &samples};
+    result.frame = resolveFrame(context, *result.visibility, result.transparent.get(),
+                                options.resolve, workers);
     result.shadingSeconds = secondsSince(start);
     return result;
 }

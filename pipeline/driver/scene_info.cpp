@@ -2,7 +2,7 @@
 
 #include <atomic>
 
-#include "pipeline/driver/parallel.h"
+#include "pipeline/core/parallel.h"
 
 namespace patchsim {
 

@@ -5,7 +5,7 @@
 #include <cstdio>
 #include <map>
 
-#include "pipeline/driver/parallel.h"
+#include "pipeline/core/parallel.h"
 
 namespace patchsim {
 

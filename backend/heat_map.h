@@ -1,0 +1,33 @@
+#pragma once
+// Heat maps of the rasterizer's work (SPEC section 6): per pixel and per tile, written as PNG with
+// a colour scale (perceptually ordered, dark = little work, bright = much) and a legend bar
+// labelled with the quantity, its minimum and its maximum. Text is drawn by OpenImageIO.
+
+#include <string>
+#include <vector>
+
+#include "rasterizer/pixel_work.h"
+
+namespace patchsim {
+
+struct HeatMapGrid {
+    std::string title;  // e.g. "rays cast per pixel"
+    int cellsX = 0, cellsY = 0;
+    int cellPixels = 1;  // each cell is drawn as a square of this many pixels
+    std::vector<float> values;
+};
+
+// Colour of a value in [0, 1] on the scale.
+struct HeatColor {
+    float r, g, b;
+};
+HeatColor heatColor(float t);
+
+void writeHeatMap(const HeatMapGrid& grid, const std::string& path);
+
+// Every heat map of a frame's work into `dir`: heat_<quantity>_pixel.png and _tile.png for
+// samples tested, rays cast, ray-box tests, ray-triangle tests, STE and tile tests.
+// Returns the files written.
+std::vector<std::string> writeHeatMaps(const PixelWork& work, const std::string& dir);
+
+}  // namespace patchsim

@@ -1,0 +1,52 @@
+#include "pipeline/driver/progress.h"
+
+#include <unistd.h>
+
+#include <cstdio>
+
+namespace patchsim {
+
+Progress::Progress(std::string label, std::int64_t total, std::int64_t unitsPerPatch, bool enabled)
+    : label_(std::move(label)),
+      total_(std::max<std::int64_t>(total, 1)),
+      unitsPerPatch_(std::max<std::int64_t>(unitsPerPatch, 1)),
+      enabled_(enabled && terminalAttached()),
+      start_(std::chrono::steady_clock::now()),
+      lastDraw_(start_) {}
+
+Progress::~Progress() {
+    if (enabled_) draw(true);
+}
+
+bool Progress::terminalAttached() {
+    return ::isatty(STDERR_FILENO) != 0;
+}
+
+void Progress::advance(std::int64_t units) {
+    done_ += units;
+    if (!enabled_) return;
+    const auto now = std::chrono::steady_clock::now();
+    std::unique_lock lock(mutex_, std::try_to_lock);
+    if (!lock.owns_lock() || now - lastDraw_ < std::chrono::milliseconds(100)) return;
+    lastDraw_ = now;
+    draw(false);
+}
+
+void Progress::draw(bool final) {
+    const std::int64_t done = std::min(done_.load(), total_);
+    const double fraction = double(done) / double(total_);
+    const double elapsed =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+    const double left = fraction > 0 ? elapsed * (1.0 - fraction) / fraction : 0.0;
+    constexpr int kWidth = 30;
+    char bar[kWidth + 1];
+    for (int i = 0; i < kWidth; ++i) bar[i] = i < int(fraction * kWidth) ? '#' : '.';
+    bar[kWidth] = 0;
+    std::fprintf(stderr, "\r%s [%s] %3d%%  %lld/%lld patches  %s %.1f s%s", label_.c_str(), bar,
+                 int(fraction * 100.0), static_cast<long long>(done / unitsPerPatch_),
+                 static_cast<long long>(total_ / unitsPerPatch_), final ? "took" : "left",
+                 final ? elapsed : left, final ? "\n" : "  ");
+    std::fflush(stderr);
+}
+
+}  // namespace patchsim

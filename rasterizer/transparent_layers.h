@@ -1,0 +1,46 @@
+#pragma once
+// Transparent fragments kept per sample for the output merger (SPEC section 6).
+//
+// Representation
+// --------------
+// Up to K fragments per sample (default 16), unsorted, in blocks of K slots. A sample gets a block
+// the first time a transparent fragment reaches it, from one of a fixed number of pools; a pool is
+// written by one worker only (pools follow the renderer's tile-row classes), so no locks are
+// needed and the layout does not depend on the thread count. When a sample's block is full, the
+// farthest fragment is dropped (counted as overflow), so the sample keeps its K nearest fragments
+// whatever order they arrive in. Fragments of the same object within a relative depth of 1e-6
+// are one surface seen twice (a ray through an edge that two triangles share): only the nearer in
+// (depth, patch, triangle) order is kept.
+
+#include <cstdint>
+#include <vector>
+
+#include "rasterizer/visibility_buffer.h"
+
+namespace patchsim {
+
+struct LayerFragment {
+    VisibilityRecord record;
+    std::int32_t object = -1;
+};
+
+class TransparentLayers {
+  public:
+    static constexpr int kPools = 16;
+
+    TransparentLayers(std::size_t samples, int maxLayers);
+
+    // Offers a fragment to `sample` from pool `pool`; returns false when a fragment was dropped.
+    bool offer(std::size_t sample, int pool, const LayerFragment& fragment);
+    int maxLayers() const { return maxLayers_; }
+    int count(std::size_t sample) const { return count_[sample]; }
+    const LayerFragment* layers(std::size_t sample) const;
+
+  private:
+    int maxLayers_;
+    std::vector<std::uint32_t> block_;  // pool << 24 | (block + 1); 0: none yet
+    std::vector<std::uint8_t> count_;
+    std::vector<std::vector<LayerFragment>> pools_;
+};
+
+}  // namespace patchsim
