@@ -183,6 +183,41 @@ TEST(Cli, VerifyTilesReportsEveryVariantWithoutFalseRejects) {
             << r.output;
 }
 
+TEST(Cli, RenderWritesHeatMapsAndUsesTheBackEndOptions) {
+    const std::string dir = patchsim::test::temporaryDirectory() + "/heat";
+    const CommandResult r = run("render -q " + sourcePath("scenes/transparency.json") + " -o " + dir +
+                                " --heatmaps --filter gaussian --shading-rate per-pixel-primitive --max-layers 4");
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    EXPECT_NE(r.output.find("and 11 heat maps"), std::string::npos) << r.output;
+    for (const char* file : {"heat_rays_cast_pixel.png", "heat_ste_tile.png", "heat_tile_tests_tile.png"})
+        EXPECT_TRUE(fs::exists(dir + "/" + file)) << file;
+    std::ifstream in(dir + "/stats.json");
+    const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    EXPECT_NE(text.find("\"filter\": \"gaussian\""), std::string::npos);
+    EXPECT_NE(text.find("\"max layers\": \"4\""), std::string::npos);
+    EXPECT_NE(text.find("\"OM/Transparent fragments\""), std::string::npos);
+}
+
+TEST(Cli, ProgressBarOnlyOnATerminal) {
+    const std::string dir = patchsim::test::temporaryDirectory() + "/progress";
+    // Not a terminal (a pipe): no progress bar.
+    CommandResult r = run("render -q -o " + dir);
+    EXPECT_EQ(r.output.find("patches  "), std::string::npos) << r.output;
+    // On a pseudo-terminal (util-linux script): patches done and time left.
+    if (std::system("command -v script > /dev/null 2>&1") != 0) GTEST_SKIP() << "no script(1)";
+    const std::string command = "script -q -e -c '" + std::string(PATCHSIM_BINARY) + " render -q -o " + dir +
+                                "' /dev/null 2>&1";
+    FILE* pipe = popen(command.c_str(), "r");
+    ASSERT_NE(pipe, nullptr);
+    std::string output;
+    char buffer[4096];
+    std::size_t n;
+    while ((n = fread(buffer, 1, sizeof buffer, pipe)) > 0) output.append(buffer, n);
+    pclose(pipe);
+    EXPECT_NE(output.find("58/58 patches"), std::string::npos) << output;
+    EXPECT_NE(output.find("took"), std::string::npos) << output;
+}
+
 TEST(Cli, UnknownOptionIsAUsageError) {
     const CommandResult r = run("info --frobnicate");
     EXPECT_NE(r.exitCode, 0);
