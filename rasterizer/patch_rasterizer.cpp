@@ -164,20 +164,24 @@ void recordPixelWork(PixelWork& pixels, int x, int y, const WorkCounts& start,
 struct SlabRay {
     Vec3 a, b, c;
     float lambdaMin, lambdaMax;
+    // Axes the ray runs parallel to (a +0 or -0 component): there the ray is inside the slab for
+    // every lambda or for none, decided by where its origin lies.
+    bool parallel[3];
+    Vec3 origin;
+    float time;
 };
 
 SlabRay makeSlabRay(const Ray& ray, float lambdaMin, float lambdaMax) {
     SlabRay s;
     for (int k = 0; k < 3; ++k) {
-        // A zero component (+0 or -0) becomes a tiny one of the same sign: no 0 * inf NaNs.
-        const float d = std::abs(ray.direction[k]) < 1e-30f
-                            ? std::copysign(1e-30f, ray.direction[k])
-                            : ray.direction[k];
-        const float inv = 1.0f / d;
+        s.parallel[k] = std::abs(ray.direction[k]) < 1e-30f;
+        const float inv = s.parallel[k] ? 0.0f : 1.0f / ray.direction[k];
         s.a[k] = (1.0f - ray.time) * inv;
         s.b[k] = ray.time * inv;
         s.c[k] = -ray.origin[k] * inv;
     }
+    s.origin = ray.origin;
+    s.time = ray.time;
     s.lambdaMin = lambdaMin;
     s.lambdaMax = lambdaMax;
     return s;
@@ -187,6 +191,13 @@ bool hitsBox(const SlabRay& r, const LBBox& box) {
     if (box.empty()) return false;
     float nearest = r.lambdaMin, farthest = r.lambdaMax;
     for (int k = 0; k < 3; ++k) {
+        if (r.parallel[k]) {
+            // Inclusive, with the same blend as the vertices: a ray on a face still meets it.
+            const float lo = lerp(box.bounds0.lower, box.bounds1.lower, r.time)[k];
+            const float hi = lerp(box.bounds0.upper, box.bounds1.upper, r.time)[k];
+            if (r.origin[k] < lo || r.origin[k] > hi) return false;
+            continue;
+        }
         const float e0 = box.bounds0.lower[k] * r.a[k] + box.bounds1.lower[k] * r.b[k] + r.c[k];
         const float e1 = box.bounds0.upper[k] * r.a[k] + box.bounds1.upper[k] * r.b[k] + r.c[k];
         nearest = std::max(nearest, std::min(e0, e1));
@@ -210,6 +221,10 @@ int bitmaskBranch(std::uint64_t mask, int depth) {
 }
 
 }  // namespace
+
+bool rayMeetsMovingBox(const Ray& ray, const LBBox& box, float lambdaMin, float lambdaMax) {
+    return hitsBox(makeSlabRay(ray, lambdaMin, lambdaMax), box);
+}
 
 PatchRasterizer::PatchRasterizer(const Camera& camera, const LensModel& lens,
                                  const SampleGenerator& samples, const Effects& effects,
@@ -254,6 +269,12 @@ void PatchRasterizer::screenBounds(const PatchHierarchy& h, float bounds[4],
     bounds[2] = (hi[0] / tanX + 1.0f) * 0.5f * float(camera_.width());
     bounds[1] = (1.0f - hi[1] / tanY) * 0.5f * float(camera_.height());
     bounds[3] = (1.0f - lo[1] / tanY) * 0.5f * float(camera_.height());
+    // Rounding in the projection must not cut off a sample exactly on the patch's edge.
+    constexpr float kMarginPixels = 1.0f / 64.0f;
+    bounds[0] -= kMarginPixels;
+    bounds[1] -= kMarginPixels;
+    bounds[2] += kMarginPixels;
+    bounds[3] += kMarginPixels;
 }
 
 void PatchRasterizer::prepareGroup(const MovingMesh& mesh, const std::uint32_t* triangles,

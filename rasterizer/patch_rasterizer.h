@@ -107,6 +107,10 @@ Ray sampleRay(const Camera& camera, const LensModel& lens, const SampleGenerator
 int intersectTriangles(const MovingMesh& mesh, const std::uint32_t* triangles, std::size_t count,
                        const Ray& ray, float lambdaMin, float lambdaMax, VisibilityRecord& best);
 
+// The per-sample box test (12 multiply-adds): does the ray, at its time, meet the moving box
+// within [lambdaMin, lambdaMax]? Conservative by a relative 1e-5.
+bool rayMeetsMovingBox(const Ray& ray, const LBBox& box, float lambdaMin, float lambdaMax);
+
 // Every hit of a ray against the given triangles, offered to a sample's transparent layers.
 // Returns the number of triangle tests; counts fragments and overflow into `work`.
 int offerAllHits(const MovingMesh& mesh, const std::uint32_t* triangles, std::size_t count,

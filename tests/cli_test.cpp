@@ -185,11 +185,13 @@ TEST(Cli, VerifyTilesReportsEveryVariantWithoutFalseRejects) {
 
 TEST(Cli, RenderWritesHeatMapsAndUsesTheBackEndOptions) {
     const std::string dir = patchsim::test::temporaryDirectory() + "/heat";
-    const CommandResult r = run("render -q " + sourcePath("scenes/transparency.json") + " -o " + dir +
-                                " --heatmaps --filter gaussian --shading-rate per-pixel-primitive --max-layers 4");
+    const CommandResult r =
+        run("render -q " + sourcePath("scenes/transparency.json") + " -o " + dir +
+            " --heatmaps --filter gaussian --shading-rate per-pixel-primitive --max-layers 4");
     ASSERT_EQ(r.exitCode, 0) << r.output;
     EXPECT_NE(r.output.find("and 11 heat maps"), std::string::npos) << r.output;
-    for (const char* file : {"heat_rays_cast_pixel.png", "heat_ste_tile.png", "heat_tile_tests_tile.png"})
+    for (const char* file :
+         {"heat_rays_cast_pixel.png", "heat_ste_tile.png", "heat_tile_tests_tile.png"})
         EXPECT_TRUE(fs::exists(dir + "/" + file)) << file;
     std::ifstream in(dir + "/stats.json");
     const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
@@ -205,8 +207,8 @@ TEST(Cli, ProgressBarOnlyOnATerminal) {
     EXPECT_EQ(r.output.find("patches  "), std::string::npos) << r.output;
     // On a pseudo-terminal (util-linux script): patches done and time left.
     if (std::system("command -v script > /dev/null 2>&1") != 0) GTEST_SKIP() << "no script(1)";
-    const std::string command = "script -q -e -c '" + std::string(PATCHSIM_BINARY) + " render -q -o " + dir +
-                                "' /dev/null 2>&1";
+    const std::string command = "script -q -e -c '" + std::string(PATCHSIM_BINARY) +
+                                " render -q -o " + dir + "' /dev/null 2>&1";
     FILE* pipe = popen(command.c_str(), "r");
     ASSERT_NE(pipe, nullptr);
     std::string output;

@@ -1,5 +1,6 @@
 #include "pipeline/core/samples.h"
 
+#include <algorithm>
 #include <cmath>
 
 namespace patchsim {
@@ -52,8 +53,9 @@ std::uint32_t permute(std::uint32_t i, std::uint32_t n, std::uint32_t key) {
 
 }  // namespace
 
-SampleGenerator::SampleGenerator(std::uint64_t seed, int samplesPerPixel, const Effects& effects)
-    : seed_(seed), spp_(samplesPerPixel), gridSide_(0), effects_(effects) {
+SampleGenerator::SampleGenerator(std::uint64_t seed, int samplesPerPixel, const Effects& effects,
+                                 SamplePattern pattern)
+    : seed_(seed), spp_(samplesPerPixel), gridSide_(0), effects_(effects), pattern_(pattern) {
     const int side = int(std::lround(std::sqrt(double(samplesPerPixel))));
     if (side * side == samplesPerPixel) gridSide_ = side;
 }
@@ -64,8 +66,9 @@ Sample SampleGenerator::sample(int x, int y, int index) const {
     auto stream = [&](std::uint64_t dimension) {
         return mix64(pixelKey ^ (dimension * 0xd1b54a32d192ed03ull));
     };
+    const bool grid = pattern_ == SamplePattern::Grid;
     auto jitter = [&](std::uint64_t dimension) {
-        return toUnit(mix64(stream(dimension) ^ std::uint64_t(index)));
+        return grid ? 0.0f : toUnit(mix64(stream(dimension) ^ std::uint64_t(index)));
     };
     const auto n = std::uint32_t(spp_);
     const auto i = std::uint32_t(index);
@@ -81,13 +84,16 @@ Sample SampleGenerator::sample(int x, int y, int index) const {
     } else {
         s.pixelOffset = {(stratum(4) + jitter(2)) / float(n), (stratum(5) + jitter(3)) / float(n)};
     }
-    s.time = effects_.motion ? (stratum(6) + jitter(7)) / float(n) : 0.0f;
+    // Grid times and lens coordinates reach both ends of [0, 1].
+    const float spread = grid ? float(std::max<std::uint32_t>(n - 1, 1)) : float(n);
+    s.time = effects_.motion ? (stratum(6) + jitter(7)) / spread : 0.0f;
     s.lens = effects_.defocus
-                 ? Vec2((stratum(8) + jitter(9)) / float(n), (stratum(10) + jitter(11)) / float(n))
+                 ? Vec2((stratum(8) + jitter(9)) / spread, (stratum(10) + jitter(11)) / spread)
                  : Vec2(0.5f, 0.5f);
     // Guard against rounding up to 1 in the divisions above.
     s.pixelOffset = glm::min(s.pixelOffset, Vec2(0.99999994f));
     s.time = std::min(s.time, 1.0f);
+    s.lens = glm::min(s.lens, Vec2(1.0f));
     return s;
 }
 

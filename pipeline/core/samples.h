@@ -24,9 +24,16 @@ struct Sample {
     float time;        // in [0,1]
 };
 
+// `Stratified` jitters inside each stratum (the default). `Grid` puts samples on the stratum
+// corners without jitter: pixel offsets k/n (so samples lie exactly on pixel and tile edges),
+// times and lens coordinates k/(n-1) (so t is exactly 0 and 1 for some samples). For hard-case
+// tests and studies of edge behaviour.
+enum class SamplePattern : std::uint8_t { Stratified, Grid };
+
 class SampleGenerator {
   public:
-    SampleGenerator(std::uint64_t seed, int samplesPerPixel, const Effects& effects);
+    SampleGenerator(std::uint64_t seed, int samplesPerPixel, const Effects& effects,
+                    SamplePattern pattern = SamplePattern::Stratified);
 
     Sample sample(int x, int y, int index) const;
     int samplesPerPixel() const { return spp_; }
@@ -37,6 +44,7 @@ class SampleGenerator {
     int spp_;
     int gridSide_;  // > 0 when spp is a perfect square
     Effects effects_;
+    SamplePattern pattern_;
 };
 
 // Shirley-Chiu concentric map of [0,1)^2 to the unit disk.

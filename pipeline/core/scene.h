@@ -51,6 +51,7 @@ struct FilmDesc {
     int height = 240;
     int samplesPerPixel = 16;
     std::uint64_t seed = 1;
+    bool gridSamples = false;  // "sampler": "grid" (see SamplePattern) instead of "stratified"
 };
 
 struct TessellationDesc {

@@ -182,6 +182,10 @@ void readFilm(ObjectReader r, FilmDesc& f, const SceneLimits& limits) {
     f.samplesPerPixel = static_cast<int>(r.integer("spp", f.samplesPerPixel, 1, 4096));
     f.seed = static_cast<std::uint64_t>(r.integer("seed", static_cast<std::int64_t>(f.seed), 0,
                                                   std::numeric_limits<std::int64_t>::max()));
+    const std::string sampler = r.string("sampler", "stratified");
+    if (sampler != "stratified" && sampler != "grid")
+        r.fail(r.fieldName("sampler"), "unknown sampler '" + sampler + "' (stratified, grid)");
+    f.gridSamples = sampler == "grid";
     r.finish();
     if (filmBytes(f) > limits.memoryBudgetBytes) {
         r.fail(r.fieldName("spp"),

@@ -107,7 +107,8 @@ RenderResult renderScene(const SceneDesc& scene, const RenderOptions& options) {
     result.frontEndSeconds = secondsSince(start);
 
     start = std::chrono::steady_clock::now();
-    const SampleGenerator samples(scene.film.seed, scene.film.samplesPerPixel, result.effects);
+    const SampleGenerator samples(scene.film.seed, scene.film.samplesPerPixel, result.effects,
+                                  scene.film.gridSamples ? SamplePattern::Grid : SamplePattern::Stratified);
     const LensModel lens{result.effects.defocus ? scene.lens.apertureRadius : 0.0f,
                          scene.lens.focusDistance};
     result.visibility = std::make_unique<VisibilityBuffer>(

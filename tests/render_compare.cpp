@@ -1,0 +1,86 @@
+#include "tests/render_compare.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <tuple>
+#include <vector>
+
+#include "pipeline/core/counters.h"
+
+namespace patchsim::test {
+
+namespace {
+
+std::vector<std::tuple<float, int, std::uint32_t>> layerList(const TransparentLayers* layers,
+                                                             std::size_t i) {
+    std::vector<std::tuple<float, int, std::uint32_t>> list;
+    if (!layers) return list;
+    for (int k = 0; k < layers->count(i); ++k) {
+        const VisibilityRecord& r = layers->layers(i)[k].record;
+        list.emplace_back(r.depth, r.patch, r.triangle);
+    }
+    std::sort(list.begin(), list.end());
+    return list;
+}
+
+void expectFinite(const RenderResult& r, const std::string& what) {
+    for (float v : r.frame.color.rgb) ASSERT_TRUE(std::isfinite(v)) << what << ": colour";
+    for (const auto* aov : {&r.frame.depth, &r.frame.coverage, &r.frame.motionX, &r.frame.motionY})
+        for (float v : *aov) ASSERT_TRUE(std::isfinite(v)) << what << ": AOV";
+    for (const VisibilityRecord& rec : r.visibility->records()) {
+        if (!rec.hit()) continue;
+        ASSERT_TRUE(std::isfinite(rec.depth) && std::isfinite(rec.b1) && std::isfinite(rec.b2))
+            << what;
+    }
+}
+
+}  // namespace
+
+Comparison compare(const RenderResult& a, const RenderResult& b) {
+    Comparison c;
+    for (std::size_t i = 0; i < a.visibility->records().size(); ++i) {
+        const VisibilityRecord& x = a.visibility->records()[i];
+        const VisibilityRecord& y = b.visibility->records()[i];
+        ++c.samples;
+        c.hits += x.hit();
+        if (!x.hit() && y.hit()) ++c.falseRejects;
+        if (x.patch != y.patch || (x.hit() && (x.triangle != y.triangle || x.depth != y.depth)))
+            ++c.mismatches;
+        else if (layerList(a.transparent.get(), i) != layerList(b.transparent.get(), i))
+            ++c.mismatches;
+    }
+    return c;
+}
+
+Comparison expectStableAndExact(const SceneDesc& scene, const std::string& what) {
+    auto render = [&](VisibilityMethod method, int threads, CounterValues* counters) {
+        RenderOptions options;
+        options.method = method;
+        options.threads = threads;
+        CounterRegistry::instance().reset();
+        RenderResult r = renderScene(scene, options);
+        if (counters) *counters = CounterRegistry::instance().snapshot();
+        return r;
+    };
+    CounterValues countersOne, countersTwo, countersAgain;
+    const RenderResult one = render(VisibilityMethod::Patch, 1, &countersOne);
+    const RenderResult two = render(VisibilityMethod::Patch, 2, &countersTwo);
+    const RenderResult again = render(VisibilityMethod::Patch, 2, &countersAgain);
+    const RenderResult reference = render(VisibilityMethod::Reference, 2, nullptr);
+    expectFinite(one, what);
+    expectFinite(reference, what);
+    const Comparison c = compare(one, reference);
+    EXPECT_EQ(c.falseRejects, 0u) << what
+                                  << ": samples the reference hits and the patch method missed";
+    EXPECT_EQ(c.mismatches, 0u) << what << ": " << c.mismatches << " of " << c.samples
+                                << " samples differ";
+    EXPECT_EQ(one.frame.color.rgb, two.frame.color.rgb) << what << ": 1 and 2 threads differ";
+    EXPECT_EQ(countersOne, countersTwo) << what << ": counters differ between 1 and 2 threads";
+    EXPECT_EQ(two.frame.color.rgb, again.frame.color.rgb) << what << ": runs differ";
+    EXPECT_EQ(countersTwo, countersAgain) << what << ": counters differ between runs";
+    return c;
+}
+
+}  // namespace patchsim::test

@@ -1,0 +1,26 @@
+#pragma once
+// Sample-for-sample comparison of two renders, shared by the rasterizer and hard-case tests.
+
+#include <cstddef>
+#include <string>
+
+#include "pipeline/driver/render.h"
+
+namespace patchsim::test {
+
+struct Comparison {
+    std::size_t samples = 0, hits = 0;
+    std::size_t mismatches =
+        0;  // different nearest opaque hit (patch, triangle or depth bits) or layers
+    std::size_t falseRejects = 0;  // the second render hits where the first does not
+};
+
+Comparison compare(const RenderResult& a, const RenderResult& b);
+
+// Renders with the patch method (1 and 2 threads, twice) and the reference method, and checks:
+// no NaN or Inf in any depth, image or AOV; the patch method equals the reference sample for
+// sample (so it never rejects a sample that holds a hit); identical images and counters for 1
+// and 2 threads and across runs. Returns the patch render's comparison with the reference.
+Comparison expectStableAndExact(const SceneDesc& scene, const std::string& what);
+
+}  // namespace patchsim::test
