@@ -12,8 +12,10 @@ namespace patchsim {
 
 namespace {
 
-void writeImage(const std::string& path, const std::string& temporary, const OIIO::ImageSpec& spec,
+void writeImage(const std::string& path, const std::string& temporary, OIIO::ImageSpec spec,
                 const void* pixels) {
+    // No capture date: the same frame must give the same file, byte for byte.
+    spec.attribute("DateTime", "");
     auto out = OIIO::ImageOutput::create(path);  // format from the final name's extension
     if (!out) throw InputError(path, "", "no image writer for this file type");
     if (!out->open(temporary, spec) || !out->write_image(spec.format, pixels) || !out->close()) {

@@ -220,6 +220,27 @@ TEST(Cli, ProgressBarOnlyOnATerminal) {
     EXPECT_NE(output.find("took"), std::string::npos) << output;
 }
 
+TEST(Cli, RenderIsBitIdenticalAcrossRunsAndThreadCounts) {
+    const std::string dir = patchsim::test::temporaryDirectory();
+    auto read = [](const std::string& p) {
+        std::ifstream in(p, std::ios::binary);
+        return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    };
+    const std::string scene = sourcePath("scenes/motion_defocus.json");
+    std::vector<std::string> runs;
+    for (const char* threads : {"1", "2", "2"}) {
+        const std::string out = dir + "/determinism-" + std::to_string(runs.size());
+        ASSERT_EQ(run("render -q --no-progress --heatmaps " + scene + " -o " + out + " --threads " + threads).exitCode, 0);
+        runs.push_back(out);
+    }
+    for (const char* file : {"image.exr", "image.png", "stats.json", "heat_rays_cast_pixel.png"}) {
+        const std::string first = read(runs[0] + "/" + file);
+        EXPECT_FALSE(first.empty()) << file;
+        for (std::size_t i = 1; i < runs.size(); ++i)
+            EXPECT_TRUE(first == read(runs[i] + "/" + file)) << file << " differs in run " << i;
+    }
+}
+
 TEST(Cli, UnknownOptionIsAUsageError) {
     const CommandResult r = run("info --frobnicate");
     EXPECT_NE(r.exitCode, 0);
