@@ -188,6 +188,37 @@ ResolvedFrame resolveFrame(const ShadingContext& c, const VisibilityBuffer& opaq
     return frame;
 }
 
+std::vector<double> shadingWorkPerPatch(const VisibilityBuffer& opaque,
+                                        const TransparentLayers* transparent, ShadingRate rate,
+                                        std::size_t patchCount) {
+    std::vector<double> work(patchCount, 0.0);
+    std::vector<std::pair<std::int32_t, std::uint32_t>> seen;  // per pixel, for the reuse rate
+    for (int y = 0; y < opaque.height(); ++y) {
+        for (int x = 0; x < opaque.width(); ++x) {
+            seen.clear();
+            auto charge = [&](const VisibilityRecord& r) {
+                if (rate == ShadingRate::PerPixelPrimitive) {
+                    const std::pair<std::int32_t, std::uint32_t> key{r.patch, r.triangle};
+                    if (std::find(seen.begin(), seen.end(), key) != seen.end()) return;
+                    seen.push_back(key);
+                }
+                work[std::size_t(r.patch)] += 1;
+            };
+            for (int s = 0; s < opaque.samplesPerPixel(); ++s) {
+                const VisibilityRecord& front = opaque.at(x, y, s);
+                if (front.hit()) charge(front);
+                if (!transparent) continue;
+                const std::size_t i = opaque.index(x, y, s);
+                for (int k = 0; k < transparent->count(i); ++k) {
+                    const VisibilityRecord& r = transparent->layers(i)[k].record;
+                    if (!front.hit() || r.nearerThan(front)) charge(r);
+                }
+            }
+        }
+    }
+    return work;
+}
+
 void writeExrWithAovs(const ResolvedFrame& frame, const std::string& path) {
     const std::size_t pixels = std::size_t(frame.color.width) * std::size_t(frame.color.height);
     std::vector<float> data(pixels * 7);

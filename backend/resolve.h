@@ -43,6 +43,12 @@ ResolvedFrame resolveFrame(const ShadingContext& context, const VisibilityBuffer
                            const TransparentLayers* transparent, const ResolveOptions& options,
                            int threads);
 
+// Pixel-shader invocations each patch causes in the final frame (its visible t-fragments, or its
+// distinct pixel-triangle pairs at the per-pixel-primitive rate), for the timing model.
+std::vector<double> shadingWorkPerPatch(const VisibilityBuffer& opaque,
+                                        const TransparentLayers* transparent, ShadingRate rate,
+                                        std::size_t patchCount);
+
 // EXR with channels R, G, B, Z, coverage, motion.x, motion.y (linear float).
 void writeExrWithAovs(const ResolvedFrame& frame, const std::string& path);
 

@@ -20,11 +20,12 @@ CC=clang CXX=clang++ BUILD_DIR=build-fuzz bash scripts/build.sh -DCMAKE_BUILD_TY
 seconds=${FUZZ_SECONDS:-60}
 corpus=build-fuzz/corpus
 rm -rf "$corpus"
-mkdir -p "$corpus/scene_reader" "$corpus/obj_reader"
+mkdir -p "$corpus/scene_reader" "$corpus/obj_reader" "$corpus/hardware_config"
 cp scenes/*.json "$corpus/scene_reader/"
+cp pipeline/hw/*.json "$corpus/hardware_config/"
 cp scenes/cages/*.obj "$corpus/obj_reader/"
 if [ -d ../shared/models/opensubdiv ]; then cp ../shared/models/opensubdiv/*.obj "$corpus/obj_reader/"; fi
-for name in scene_reader obj_reader; do
+for name in scene_reader obj_reader hardware_config; do
   echo "fuzzing $name for ${seconds}s"
   ASAN_OPTIONS=detect_leaks=1 "build-fuzz/fuzz/fuzz_$name" -max_total_time="$seconds" -print_final_stats=1 \
     -rss_limit_mb=4096 -artifact_prefix="build-fuzz/crash-$name-" "$corpus/$name" 2>&1 | tail -n 12

@@ -218,6 +218,7 @@ void FrontEnd::tessellate(std::size_t index, TessellatedPatch& out, FrontEndWork
     out.object = int(objectIndex);
     out.patch = patchIndex;
     out.domain = patch.domain;
+    out.controlPoints = object.mesh->controlPointCount(patch.face);
     runHullShader(object, patch, out);
     if (patch.domain == PatchDomain::Quad) {
         QuadTessFactors f;

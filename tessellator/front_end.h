@@ -38,6 +38,7 @@ struct TessellatedPatch {
     PatchDomain domain = PatchDomain::Quad;
     float edgeFactors[4] = {};  // after HS processing, D3D11 edge order
     float insideFactors[2] = {};
+    int controlPoints = 0;  // control points of the patch's limit surface
     Tessellation tessellation;
     std::vector<Vec3> position[2];  // limit position at shutter open / close, world space
     std::vector<Vec3> normal[2];

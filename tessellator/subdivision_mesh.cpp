@@ -277,6 +277,10 @@ void SubdivisionMesh::faceCoord(const PatchInfo& patch, float u, float v, float 
         patch.subface, sub, faceUV);
 }
 
+int SubdivisionMesh::controlPointCount(int face) const {
+    return impl_->surfaces[std::size_t(face)].GetNumControlPoints();
+}
+
 void SubdivisionMesh::evaluateStencil(int face, const float faceUV[2], Stencil& out) const {
     const osd::Bfr::Surface<float>& surface = impl_->surfaces[std::size_t(face)];
     const std::size_t n = std::size_t(surface.GetNumControlPoints());

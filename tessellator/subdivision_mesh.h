@@ -92,6 +92,9 @@ class SubdivisionMesh {
         return faceVertices_[std::size_t(face)];
     }
 
+    // Control points of a face's limit surface (what a hull shader would read for the patch).
+    int controlPointCount(int face) const;
+
     // Face-level (u,v) of the Bfr parameterization for a patch-local domain point.
     void faceCoord(const PatchInfo& patch, float u, float v, float faceUV[2]) const;
 

@@ -9,6 +9,7 @@
 #include "backend/heat_map.h"
 #include "backend/image.h"
 #include "pipeline/core/error.h"
+#include "pipeline/core/hardware_config.h"
 #include "pipeline/core/scene_reader.h"
 #include "pipeline/core/text_file.h"
 #include "pipeline/driver/render.h"
@@ -91,6 +92,7 @@ struct RenderCommand {
     std::string filter = "box", shadingRate = "per-fragment";
     int maxLayers = 16;
     bool heatMaps = false, noProgress = false;
+    std::string hardware, trace;
 };
 
 void addRenderOptions(CLI::App& cmd, RenderCommand& r) {
@@ -120,6 +122,9 @@ void addRenderOptions(CLI::App& cmd, RenderCommand& r) {
     cmd.add_flag("--heatmaps", r.heatMaps,
                  "Also write per-pixel and per-tile heat maps of the rasterizer's work");
     cmd.add_flag("--no-progress", r.noProgress, "No progress bar");
+    cmd.add_option("--hw", r.hardware,
+                   "Hardware configuration JSON for the timing model (default: pipeline/hw/default.json)");
+    cmd.add_option("--trace", r.trace, "Write the per-patch timeline as Chrome trace-event JSON");
 }
 
 int runRender(const RenderCommand& r) {
@@ -147,8 +152,11 @@ int runRender(const RenderCommand& r) {
                                       : ShadingRate::PerFragment;
     options.heatMaps = r.heatMaps;
     options.progress = !r.noProgress;
+    const HardwareConfig hardware =
+        r.hardware.empty() ? defaultHardwareConfig() : readHardwareConfig(r.hardware);
     CounterRegistry::instance().reset();
     const RenderResult result = renderScene(scene, options);
+    const TimingReport timing = simulateTiming(result.patchOps, hardware);
     const CounterValues counters = CounterRegistry::instance().snapshot();
     std::filesystem::create_directories(r.outputDir);
     writeExrWithAovs(result.frame, r.outputDir + "/image.exr");
@@ -158,7 +166,7 @@ int runRender(const RenderCommand& r) {
     const std::int64_t tested = counters.at("RS/Samples tested");
     const double ste = tested ? double(counters.at("RS/Visibility samples")) / double(tested) : 0.0;
     const std::int64_t shaded = counters.at("PS/Invocations"), reused = counters.at("PS/Reused");
-    StatsContext context{"render", scene.path, {}};
+    StatsContext context{"render", scene.path, {}, &timing};
     context.facts = {
         {"method", visibilityMethodName(options.method)},
         {"mode", describeMode(result.effects)},
@@ -178,8 +186,12 @@ int runRender(const RenderCommand& r) {
         {"branch method", branchMethodName(o.branchMethod)},
         {"time refinement", o.timeRefinement ? "on" : "off"},
         {"z culling", o.zCulling ? "on" : "off"}};
+    context.facts.push_back({"hardware", r.hardware.empty() ? "builtin:hw/default.json" : r.hardware});
     writeStats(r.outputDir + "/stats.json", context);
+    if (!r.trace.empty())
+        writeFileAtomically(r.trace, [&](std::ostream& out) { writeChromeTrace(timing, out); });
     if (!r.quiet) printCounterTable(std::cout, counters);
+    printTimingReport(timing, std::cout);
     std::cout << "rendered " << scene.path << " (" << describeMode(result.effects) << ") with the "
               << visibilityMethodName(options.method) << " method: " << result.patches
               << " patches, " << result.triangles << " triangles; front end "

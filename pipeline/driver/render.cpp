@@ -24,9 +24,11 @@ constexpr int kRowClasses = TransparentLayers::kPools;
 
 }  // namespace
 
-void runPatchVisibility(const std::vector<MovingMesh>& meshes, const PatchRasterizer& rasterizer,
-                        int threads, const VisibilityTargets& targets,
-                        const std::vector<std::size_t>& orderIn, Progress* progress) {
+std::vector<PatchRasterWork> runPatchVisibility(const std::vector<MovingMesh>& meshes,
+                                                const PatchRasterizer& rasterizer, int threads,
+                                                const VisibilityTargets& targets,
+                                                const std::vector<std::size_t>& orderIn,
+                                                Progress* progress) {
     std::vector<std::size_t> order = orderIn;
     if (order.empty()) {
         order.resize(meshes.size());
@@ -49,13 +51,23 @@ void runPatchVisibility(const std::vector<MovingMesh>& meshes, const PatchRaster
         }
     });
     for (const WorkCounts& w : prepareWork) w.flush();
+    std::vector<PatchRasterWork> perPatch(meshes.size());
+    for (std::size_t i = 0; i < meshes.size(); ++i) {
+        for (const PatchRasterizer::Group& g : groups[i]) {
+            perPatch[i].nodesBuilt += g.hierarchy.nodeCount();
+            perPatch[i].largestHierarchyBytes =
+                std::max<std::uint64_t>(perPatch[i].largestHierarchyBytes, g.hierarchy.bytes());
+        }
+    }
+    // Tile work per patch, per row class (fixed slots), summed afterwards in a fixed order.
+    std::vector<std::vector<WorkCounts>> classWork(kRowClasses, std::vector<WorkCounts>(meshes.size()));
     const int tileSize = rasterizer.options().tileSize;
     const int tileRows = (targets.opaque->height() + tileSize - 1) / tileSize;
     parallelFor(kRowClasses, threads, [&](int, std::size_t rowClass) {
-        WorkCounts work;
         VisibilityTargets mine = targets;
         mine.pool = int(rowClass);
         for (std::size_t i : order) {
+            WorkCounts& work = classWork[rowClass][i];
             for (const PatchRasterizer::Group& group : groups[i]) {
                 for (int ty = group.tileY0; ty < std::min(group.tileY1, tileRows); ++ty) {
                     if (ty % kRowClasses != int(rowClass)) continue;
@@ -65,9 +77,46 @@ void runPatchVisibility(const std::vector<MovingMesh>& meshes, const PatchRaster
             }
             if (progress) progress->advance();
         }
-        work.flush();
+        for (const WorkCounts& work : classWork[rowClass]) work.flush();
     });
+    for (const auto& rows : classWork)
+        for (std::size_t i = 0; i < meshes.size(); ++i) perPatch[i].work.add(rows[i]);
+    return perPatch;
 }
+
+namespace {
+
+std::vector<PatchOps> collectPatchOps(const std::vector<TessellatedPatch>& patches,
+                                      const std::vector<PatchRasterWork>& raster,
+                                      const std::vector<double>& shading) {
+    std::vector<PatchOps> ops(patches.size());
+    for (std::size_t i = 0; i < patches.size(); ++i) {
+        const TessellatedPatch& p = patches[i];
+        const WorkCounts& w = raster[i].work;
+        PatchOps& o = ops[i];
+        const double points = double(p.tessellation.points.size());
+        o[Op::Patches] = 1;
+        o[Op::ControlPoints] = p.controlPoints;
+        o[Op::EdgeFactors] = p.domain == PatchDomain::Quad ? 4 : 3;
+        o[Op::DomainPoints] = points;
+        o[Op::Triangles] = double(p.triangleCount());
+        o[Op::Evaluations] = p.culled() ? 0 : points;
+        o[Op::StencilApplications] = p.culled() ? 0 : 6 * points;
+        o[Op::NodesBuilt] = double(raster[i].nodesBuilt);
+        o[Op::PlaneTests] = double(w.planeTests);
+        o[Op::TimeIntervals] = double(w.timeIntervals);
+        o[Op::SamplesTested] = double(w.samplesTested);
+        o[Op::RayBoxTests] = double(w.rayBoxTests);
+        o[Op::RayTriangleTests] = double(w.rayTriangleTests);
+        o[Op::Invocations] = shading[i];
+        o[Op::DepthTests] = double(w.visibilitySamples);
+        o[Op::TransparentFragments] = double(w.transparentFragments);
+        o.hierarchyBytes = raster[i].largestHierarchyBytes;
+    }
+    return ops;
+}
+
+}  // namespace
 
 const char* visibilityMethodName(VisibilityMethod m) {
     return m == VisibilityMethod::Patch ? "patch" : "reference";
@@ -107,6 +156,7 @@ RenderResult renderScene(const SceneDesc& scene, const RenderOptions& options) {
     result.frontEndSeconds = secondsSince(start);
 
     start = std::chrono::steady_clock::now();
+    std::vector<PatchRasterWork> rasterWork(count);
     const SampleGenerator samples(scene.film.seed, scene.film.samplesPerPixel, result.effects,
                                   scene.film.gridSamples ? SamplePattern::Grid : SamplePattern::Stratified);
     const LensModel lens{result.effects.defocus ? scene.lens.apertureRadius : 0.0f,
@@ -131,7 +181,7 @@ RenderResult renderScene(const SceneDesc& scene, const RenderOptions& options) {
         const PatchRasterizer rasterizer(camera, lens, samples, result.effects, scene.rasterizer);
         Progress progress("visibility", std::int64_t(count) * kRowClasses, kRowClasses,
                           options.progress);
-        runPatchVisibility(meshes, rasterizer, workers, targets, order, &progress);
+        rasterWork = runPatchVisibility(meshes, rasterizer, workers, targets, order, &progress);
     } else {
         Progress progress("reference ", kRowClasses, 1, options.progress);
         parallelFor(kRowClasses, workers, [&](int, std::size_t band) {
@@ -151,6 +201,9 @@ RenderResult renderScene(const SceneDesc& scene, const RenderOptions& options) {
     result.frame = resolveFrame(context, *result.visibility, result.transparent.get(),
                                 options.resolve, workers);
     result.shadingSeconds = secondsSince(start);
+    result.patchOps = collectPatchOps(patches, rasterWork,
+                                      shadingWorkPerPatch(*result.visibility, result.transparent.get(),
+                                                          options.resolve.shadingRate, count));
     return result;
 }
 

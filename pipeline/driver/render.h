@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "backend/resolve.h"
+#include "pipeline/driver/timing_model.h"
 #include "pipeline/core/effects.h"
 #include "pipeline/core/rasterizer_options.h"
 #include "pipeline/core/scene.h"
@@ -42,15 +43,24 @@ struct RenderResult {
     std::unique_ptr<VisibilityBuffer> visibility;
     std::unique_ptr<TransparentLayers> transparent;  // null without transparency
     std::unique_ptr<PixelWork> pixelWork;            // null without heat maps
+    std::vector<PatchOps> patchOps;  // every stage's counted work per patch, for the timing model
+};
+
+// The rasterizer's work on one patch, summed over its groups and tiles.
+struct PatchRasterWork {
+    WorkCounts work;
+    std::int64_t nodesBuilt = 0;
+    std::uint64_t largestHierarchyBytes = 0;
 };
 
 RenderResult renderScene(const SceneDesc& scene, const RenderOptions& options);
 
 // The visibility step of the patch method on prepared meshes (also used by benchmarks): groups
 // and hierarchies, then every tile of every group in the order given (all patches when empty).
-void runPatchVisibility(const std::vector<MovingMesh>& meshes, const PatchRasterizer& rasterizer,
-                        int threads, const VisibilityTargets& targets,
-                        const std::vector<std::size_t>& order = {},
-                        class Progress* progress = nullptr);
+std::vector<PatchRasterWork> runPatchVisibility(const std::vector<MovingMesh>& meshes,
+                                                const PatchRasterizer& rasterizer, int threads,
+                                                const VisibilityTargets& targets,
+                                                const std::vector<std::size_t>& order = {},
+                                                class Progress* progress = nullptr);
 
 }  // namespace patchsim

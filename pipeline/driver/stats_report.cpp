@@ -46,6 +46,24 @@ void writeStatsJson(std::ostream& out, const StatsContext& context, const Counte
         counters[name] = {{"value", value}, {"unit", it != infos.end() ? it->second.unit : ""}};
     }
     json["counters"] = counters;
+    if (context.timing) {
+        const TimingReport& t = *context.timing;
+        nlohmann::ordered_json stages = nlohmann::ordered_json::object();
+        for (int s = 0; s < kStageCount; ++s) {
+            const StageTiming& st = t.stages[std::size_t(s)];
+            stages[stageName(Stage(s))] = {{"busy_cycles", st.busy},
+                                           {"stalled_cycles", st.stalled},
+                                           {"starved_cycles", st.starved},
+                                           {"utilisation", st.utilisation}};
+        }
+        json["timing"] = {{"total_cycles", t.totalCycles},
+                          {"microseconds", t.microseconds()},
+                          {"clock_ghz", t.clockGHz},
+                          {"bottleneck", stageName(t.bottleneck)},
+                          {"peak_scratch_bytes", t.peakScratchBytes},
+                          {"patches_over_scratch_budget", t.patchesOverBudget},
+                          {"stages", stages}};
+    }
     out << json.dump(2) << "\n";
 }
 

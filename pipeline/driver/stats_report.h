@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "pipeline/core/counters.h"
+#include "pipeline/driver/timing_model.h"
 
 namespace patchsim {
 
@@ -15,6 +16,7 @@ struct StatsContext {
     std::string command;                                     // "tessellate", "info", ...
     std::string scene;                                       // scene path
     std::vector<std::pair<std::string, std::string>> facts;  // extra key/value lines
+    const TimingReport* timing = nullptr;                      // cycle report, when modelled
 };
 
 void printCounterTable(std::ostream& out, const CounterValues& values);
