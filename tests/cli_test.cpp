@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 #include <sys/wait.h>
 
+#include <algorithm>
 #include <array>
 #include <cstdio>
 #include <filesystem>
@@ -230,7 +231,10 @@ TEST(Cli, RenderIsBitIdenticalAcrossRunsAndThreadCounts) {
     std::vector<std::string> runs;
     for (const char* threads : {"1", "2", "2"}) {
         const std::string out = dir + "/determinism-" + std::to_string(runs.size());
-        ASSERT_EQ(run("render -q --no-progress --heatmaps " + scene + " -o " + out + " --threads " + threads).exitCode, 0);
+        ASSERT_EQ(run("render -q --no-progress --heatmaps " + scene + " -o " + out + " --threads " +
+                      threads)
+                      .exitCode,
+                  0);
         runs.push_back(out);
     }
     for (const char* file : {"image.exr", "image.png", "stats.json", "heat_rays_cast_pixel.png"}) {
@@ -239,6 +243,62 @@ TEST(Cli, RenderIsBitIdenticalAcrossRunsAndThreadCounts) {
         for (std::size_t i = 1; i < runs.size(); ++i)
             EXPECT_TRUE(first == read(runs[i] + "/" + file)) << file << " differs in run " << i;
     }
+}
+
+TEST(Cli, ExploreWritesCsvAndPlotsAndMpiGivesTheSameFile) {
+    const std::string dir = patchsim::test::temporaryDirectory() + "/explore";
+    fs::create_directories(dir);
+    const std::string grid =
+        writeFile("grid.json", R"({"rasterizer": {"tile_size": [4, 16], "leaf_size": [2, 4]},
+        "hardware": {"RS.throughput.ray_box_tests": [8, 16]}, "film": {"width": 32, "height": 24, "spp": 2}})");
+    const std::string scenes =
+        sourcePath("scenes/motion.json") + " " + sourcePath("scenes/static.json");
+    CommandResult r =
+        run("explore " + scenes + " --grid " + grid + " -o " + dir + "/local.csv --plots " + dir);
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    std::ifstream in(dir + "/local.csv");
+    const std::string local((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    EXPECT_EQ(std::count(local.begin(), local.end(), '\n'), 1 + 2 * 2 * 2 * 2);  // header + points
+    for (const char* plot : {"cycles_vs_tile_size.svg", "cycles_vs_leaf_size.svg",
+                             "cycles_vs_RS_throughput_ray_box_tests.svg"})
+        EXPECT_TRUE(fs::exists(dir + "/" + plot)) << plot;
+    if (std::system("command -v mpirun > /dev/null 2>&1") != 0) GTEST_SKIP() << "no mpirun";
+    const std::string mpi =
+        "OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 mpirun -np 2 --oversubscribe ";
+    const std::string command = mpi + PATCHSIM_BINARY + " explore " + scenes + " --grid " + grid +
+                                " -o " + dir + "/mpi.csv --threads 1 2>&1";
+    ASSERT_EQ(std::system(command.c_str()), 0);
+    std::ifstream mpiIn(dir + "/mpi.csv");
+    const std::string distributed((std::istreambuf_iterator<char>(mpiIn)),
+                                  std::istreambuf_iterator<char>());
+    EXPECT_TRUE(local == distributed) << "mpirun -np 2 wrote a different file";
+}
+
+TEST(Cli, RenderWithHardwareConfigAndTrace) {
+    const std::string dir = patchsim::test::temporaryDirectory() + "/hw";
+    const std::string hw = writeFile("slow_rs.json", R"({"clock_ghz": 1, "stages": {
+        "IA": {"throughput": {"patches": 1}}, "VS": {"throughput": {"control_points": 1}},
+        "HS": {"throughput": {"edge_factors": 1}}, "TS": {"throughput": {"domain_points": 1, "triangles": 1}},
+        "DS": {"throughput": {"evaluations": 1, "stencil_applications": 1}},
+        "RS": {"throughput": {"nodes_built": 1, "plane_tests": 1, "time_intervals": 1, "samples_tested": 1,
+                              "ray_box_tests": 0.01, "ray_triangle_tests": 1}},
+        "PS": {"throughput": {"invocations": 1}}, "OM": {"throughput": {"depth_tests": 1, "transparent_fragments": 1}}}})");
+    const CommandResult r =
+        run("render -q -o " + dir + " --hw " + hw + " --trace " + dir + "/trace.json");
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    EXPECT_NE(r.output.find("bottleneck RS"), std::string::npos) << r.output;
+    std::ifstream stats(dir + "/stats.json");
+    const std::string text((std::istreambuf_iterator<char>(stats)),
+                           std::istreambuf_iterator<char>());
+    EXPECT_NE(text.find("\"timing\""), std::string::npos);
+    EXPECT_NE(text.find("\"bottleneck\": \"RS\""), std::string::npos);
+    EXPECT_TRUE(fs::exists(dir + "/trace.json"));
+    const std::string bad = writeFile("bad_hw.json", R"({"stages": {}})");
+    const CommandResult e = run("render -q -o " + dir + "/bad --hw " + bad);
+    EXPECT_NE(e.exitCode, 0);
+    EXPECT_NE(e.output.find("bad_hw.json: stages.IA: missing stage"), std::string::npos)
+        << e.output;
+    EXPECT_FALSE(fs::exists(dir + "/bad/image.png"));
 }
 
 TEST(Cli, UnknownOptionIsAUsageError) {

@@ -2,9 +2,8 @@
 
 #include <gtest/gtest.h>
 
-#include <sstream>
-
 #include <nlohmann/json.hpp>
+#include <sstream>
 
 namespace patchsim {
 namespace {
@@ -44,7 +43,8 @@ TEST(TimingModel, SingleStage) {
 TEST(TimingModel, SecondStageIsTheBottleneck) {
     // IA takes 1 cycle per patch, VS 3: VS starts patches at 1, 4, 7, 10 and ends at 13.
     const HardwareConfig c = flatConfig();
-    const TimingReport r = simulateTiming(patchesWith(4, {{Op::Patches, 1}, {Op::ControlPoints, 3}}), c);
+    const TimingReport r =
+        simulateTiming(patchesWith(4, {{Op::Patches, 1}, {Op::ControlPoints, 3}}), c);
     EXPECT_DOUBLE_EQ(r.totalCycles, 13);
     EXPECT_EQ(r.bottleneck, Stage::VS);
     EXPECT_DOUBLE_EQ(r.stages[1].busy, 12);
@@ -56,7 +56,8 @@ TEST(TimingModel, SecondStageIsTheBottleneck) {
 TEST(TimingModel, ShallowFifoStallsTheStageBefore) {
     HardwareConfig c = flatConfig();
     c.stage(Stage::VS).fifoDepth = 1;
-    const TimingReport r = simulateTiming(patchesWith(4, {{Op::Patches, 1}, {Op::ControlPoints, 3}}), c);
+    const TimingReport r =
+        simulateTiming(patchesWith(4, {{Op::Patches, 1}, {Op::ControlPoints, 3}}), c);
     // IA may deliver patch p only once VS has started patch p-1: blocked 0, 0, 1 and 2 cycles.
     EXPECT_DOUBLE_EQ(r.stages[0].stalled, 3);
     EXPECT_DOUBLE_EQ(r.patches[2].delivered[0], 4);
@@ -68,7 +69,8 @@ TEST(TimingModel, LatencyDelaysDelivery) {
     HardwareConfig c = flatConfig();
     c.stage(Stage::IA).latency = 5;
     c.stage(Stage::OM).latency = 2;
-    const TimingReport r = simulateTiming(patchesWith(1, {{Op::Patches, 1}, {Op::ControlPoints, 1}}), c);
+    const TimingReport r =
+        simulateTiming(patchesWith(1, {{Op::Patches, 1}, {Op::ControlPoints, 1}}), c);
     EXPECT_DOUBLE_EQ(r.totalCycles, 1 + 5 + 1 + 2);
 }
 
@@ -87,7 +89,8 @@ TEST(TimingModel, PatchOverTheScratchBudget) {
 TEST(TimingModel, ChromeTraceHasOneSlicePerPatchAndStage) {
     HardwareConfig c = flatConfig();
     c.clockGHz = 2;
-    const TimingReport r = simulateTiming(patchesWith(2, {{Op::Patches, 2}, {Op::RayBoxTests, 4}}), c);
+    const TimingReport r =
+        simulateTiming(patchesWith(2, {{Op::Patches, 2}, {Op::RayBoxTests, 4}}), c);
     std::ostringstream out;
     writeChromeTrace(r, out);
     const nlohmann::json trace = nlohmann::json::parse(out.str());

@@ -5,13 +5,16 @@
 #include <filesystem>
 #include <iostream>
 #include <optional>
+#include <sstream>
 
 #include "backend/heat_map.h"
 #include "backend/image.h"
+#include "pipeline/app/mpi_context.h"
 #include "pipeline/core/error.h"
 #include "pipeline/core/hardware_config.h"
 #include "pipeline/core/scene_reader.h"
 #include "pipeline/core/text_file.h"
+#include "pipeline/driver/explore.h"
 #include "pipeline/driver/render.h"
 #include "pipeline/driver/scene_info.h"
 #include "pipeline/driver/stats_report.h"
@@ -122,8 +125,9 @@ void addRenderOptions(CLI::App& cmd, RenderCommand& r) {
     cmd.add_flag("--heatmaps", r.heatMaps,
                  "Also write per-pixel and per-tile heat maps of the rasterizer's work");
     cmd.add_flag("--no-progress", r.noProgress, "No progress bar");
-    cmd.add_option("--hw", r.hardware,
-                   "Hardware configuration JSON for the timing model (default: pipeline/hw/default.json)");
+    cmd.add_option(
+        "--hw", r.hardware,
+        "Hardware configuration JSON for the timing model (default: pipeline/hw/default.json)");
     cmd.add_option("--trace", r.trace, "Write the per-patch timeline as Chrome trace-event JSON");
 }
 
@@ -186,7 +190,8 @@ int runRender(const RenderCommand& r) {
         {"branch method", branchMethodName(o.branchMethod)},
         {"time refinement", o.timeRefinement ? "on" : "off"},
         {"z culling", o.zCulling ? "on" : "off"}};
-    context.facts.push_back({"hardware", r.hardware.empty() ? "builtin:hw/default.json" : r.hardware});
+    context.facts.push_back(
+        {"hardware", r.hardware.empty() ? "builtin:hw/default.json" : r.hardware});
     writeStats(r.outputDir + "/stats.json", context);
     if (!r.trace.empty())
         writeFileAtomically(r.trace, [&](std::ostream& out) { writeChromeTrace(timing, out); });
@@ -201,6 +206,64 @@ int runRender(const RenderCommand& r) {
               << "/image.exr (R G B Z coverage motion.x motion.y), image.png, stats.json";
     if (!heatMaps.empty()) std::cout << " and " << heatMaps.size() << " heat maps";
     std::cout << "\n";
+    return 0;
+}
+
+struct ExploreCommand {
+    std::vector<std::string> scenes;
+    std::string grid, output = "explore.csv", plots, hardware;
+    int threads = 0;
+    std::uint64_t memoryBudgetMiB = 4096;
+};
+
+int runExplore(const ExploreCommand& e, const MpiContext& mpi) {
+    SceneLimits limits;
+    limits.memoryBudgetBytes = e.memoryBudgetMiB << 20;
+    std::vector<SceneDesc> scenes;
+    for (const std::string& s : e.scenes) scenes.push_back(readSceneOrCage(s, limits));
+    if (scenes.empty()) scenes.push_back(defaultScene());
+    const ExploreGrid grid = parseExploreGrid(readTextFile(e.grid), e.grid);
+    const HardwareConfig hardware =
+        e.hardware.empty() ? defaultHardwareConfig() : readHardwareConfig(e.hardware);
+    const std::size_t jobs = exploreJobs(scenes.size(), grid).size();
+    // Jobs are dealt round-robin over ranks; each rank tags its rows with the job number.
+    std::string mine;
+    runExploreJobs(
+        scenes, grid, hardware, e.threads,
+        [&](std::size_t j) { return int(j % std::size_t(mpi.size())) == mpi.rank(); },
+        [&](std::size_t j, const std::vector<std::string>& rows) {
+            for (const std::string& row : rows) mine += std::to_string(j) + "\t" + row + "\n";
+            if (mpi.rank() == 0)
+                std::cerr << "explore: job " << j + 1 << " of " << jobs << " done\n";
+        });
+    const std::vector<std::string> parts = mpi.gather(mine);
+    if (mpi.rank() != 0) return 0;
+    std::vector<std::pair<std::size_t, std::string>> rows;
+    for (const std::string& part : parts) {
+        std::istringstream in(part);
+        std::string line;
+        std::size_t order = 0;
+        while (std::getline(in, line)) {
+            const auto tab = line.find('\t');
+            rows.push_back(
+                {std::stoul(line.substr(0, tab)) * 1000000 + order++, line.substr(tab + 1)});
+        }
+    }
+    std::stable_sort(rows.begin(), rows.end(), [](const auto& a, const auto& b) {
+        return a.first / 1000000 < b.first / 1000000;
+    });
+    std::string csv = exploreCsvHeader(grid) + "\n";
+    for (const auto& [key, row] : rows) csv += row + "\n";
+    writeFileAtomically(e.output, [&](std::ostream& out) { out << csv; });
+    std::cout << "wrote " << e.output << ": " << rows.size() << " points (" << jobs << " renders"
+              << (mpi.active() ? " over " + std::to_string(mpi.size()) + " MPI ranks"
+                               : std::string())
+              << ")\n";
+    if (!e.plots.empty()) {
+        std::filesystem::create_directories(e.plots);
+        for (const std::string& file : writeExplorePlots(csv, grid, e.plots))
+            std::cout << "wrote " << file << "\n";
+    }
     return 0;
 }
 
@@ -222,6 +285,7 @@ int runVerifyTiles(int cases, std::uint64_t seed) {
 }  // namespace
 
 int main(int argc, char** argv) {
+    const MpiContext mpi(argc, argv);
     CLI::App app{
         "patchsim: a cycle-approximate D3D11-style pipeline with a patch rasterizer for "
         "motion and defocus blur (US 8,791,945)"};
@@ -258,6 +322,21 @@ int main(int argc, char** argv) {
         ->check(CLI::PositiveNumber);
     verify->add_option("--seed", verifySeed, "Seed of the random cases");
 
+    ExploreCommand exploreOptions;
+    CLI::App* explore =
+        app.add_subcommand("explore", "Design-space sweep: one CSV row per grid point");
+    explore->add_option("scenes", exploreOptions.scenes,
+                        "Scene JSON files (default: the built-in scene)");
+    explore->add_option("--grid", exploreOptions.grid, "Grid file (docs/EXPLORE.md)")->required();
+    explore->add_option("-o,--output", exploreOptions.output, "CSV file to write");
+    explore->add_option("--plots", exploreOptions.plots,
+                        "Folder for cycles-against-parameter SVG plots");
+    explore->add_option("--hw", exploreOptions.hardware, "Base hardware configuration");
+    explore->add_option("--threads", exploreOptions.threads,
+                        "Worker threads per render (0: all cores)");
+    explore->add_option("--memory-budget-mib", exploreOptions.memoryBudgetMiB,
+                        "Largest film a scene may ask for");
+
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {
@@ -268,6 +347,7 @@ int main(int argc, char** argv) {
         if (*tess) return runTessellate(tessOptions, tessOutput, tessTime, tessStats, tessQuiet);
         if (*render) return runRender(renderOptions);
         if (*verify) return runVerifyTiles(verifyCases, verifySeed);
+        if (*explore) return runExplore(exploreOptions, mpi);
         // No subcommand: the main job, a render of the built-in default scene into out/.
         const RenderCommand defaults;
         return runRender(defaults);

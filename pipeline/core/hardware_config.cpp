@@ -10,14 +10,25 @@ namespace patchsim {
 namespace {
 
 constexpr const char* kStageNames[kStageCount] = {"IA", "VS", "HS", "TS", "DS", "RS", "PS", "OM"};
-constexpr const char* kOpNames[kOpCount] = {
-    "patches",       "control_points", "edge_factors",   "domain_points",
-    "triangles",     "evaluations",    "stencil_applications", "nodes_built",
-    "plane_tests",   "time_intervals", "samples_tested", "ray_box_tests",
-    "ray_triangle_tests", "invocations", "depth_tests",  "transparent_fragments"};
-constexpr Stage kOpStages[kOpCount] = {Stage::IA, Stage::VS, Stage::HS, Stage::TS, Stage::TS, Stage::DS,
-                                      Stage::DS, Stage::RS, Stage::RS, Stage::RS, Stage::RS, Stage::RS,
-                                      Stage::RS, Stage::PS, Stage::OM, Stage::OM};
+constexpr const char* kOpNames[kOpCount] = {"patches",
+                                            "control_points",
+                                            "edge_factors",
+                                            "domain_points",
+                                            "triangles",
+                                            "evaluations",
+                                            "stencil_applications",
+                                            "nodes_built",
+                                            "plane_tests",
+                                            "time_intervals",
+                                            "samples_tested",
+                                            "ray_box_tests",
+                                            "ray_triangle_tests",
+                                            "invocations",
+                                            "depth_tests",
+                                            "transparent_fragments"};
+constexpr Stage kOpStages[kOpCount] = {
+    Stage::IA, Stage::VS, Stage::HS, Stage::TS, Stage::TS, Stage::DS, Stage::DS, Stage::RS,
+    Stage::RS, Stage::RS, Stage::RS, Stage::RS, Stage::RS, Stage::PS, Stage::OM, Stage::OM};
 
 int findOp(const std::string& name, Stage stage) {
     for (int k = 0; k < kOpCount; ++k)
@@ -40,22 +51,29 @@ void readStage(ObjectReader r, StageConfig& s, Stage stage) {
     r.finish();
     for (int k = 0; k < kOpCount; ++k)
         if (kOpStages[k] == stage && !(s.throughput[std::size_t(k)] > 0))
-            r.fail(r.fieldName("throughput." + std::string(kOpNames[k])), "missing or not positive");
+            r.fail(r.fieldName("throughput." + std::string(kOpNames[k])),
+                   "missing or not positive");
 }
 
 }  // namespace
 
-const char* stageName(Stage s) { return kStageNames[int(s)]; }
-const char* opName(Op op) { return kOpNames[int(op)]; }
-Stage stageOf(Op op) { return kOpStages[int(op)]; }
+const char* stageName(Stage s) {
+    return kStageNames[int(s)];
+}
+const char* opName(Op op) {
+    return kOpNames[int(op)];
+}
+Stage stageOf(Op op) {
+    return kOpStages[int(op)];
+}
 
 HardwareConfig parseHardwareConfig(std::string_view text, const std::string& path) {
     const Json json = parseJson(text, path);
     HardwareConfig config;
     ObjectReader root(json, "", path);
     config.clockGHz = root.number("clock_ghz", config.clockGHz, 1e-6, 1e6);
-    config.scratchBudgetBytes = std::uint64_t(
-        root.integer("scratch_budget_bytes", std::int64_t(config.scratchBudgetBytes), 1, std::int64_t(1) << 40));
+    config.scratchBudgetBytes = std::uint64_t(root.integer(
+        "scratch_budget_bytes", std::int64_t(config.scratchBudgetBytes), 1, std::int64_t(1) << 40));
     auto stages = root.object("stages");
     if (!stages) root.fail("stages", "missing the per-stage configuration");
     for (int s = 0; s < kStageCount; ++s) {
@@ -98,9 +116,12 @@ void setHardwareParameter(HardwareConfig& c, const std::string& path, double val
         if (stageText == kStageNames[s]) stage = s;
     if (stage < 0) fail("unknown stage '" + stageText + "'");
     StageConfig& s = c.stages[std::size_t(stage)];
-    if (rest == "units") s.units = int(value);
-    else if (rest == "latency") s.latency = value;
-    else if (rest == "fifo_depth") s.fifoDepth = int(value);
+    if (rest == "units")
+        s.units = int(value);
+    else if (rest == "latency")
+        s.latency = value;
+    else if (rest == "fifo_depth")
+        s.fifoDepth = int(value);
     else if (rest.starts_with("throughput.")) {
         const int op = findOp(rest.substr(11), Stage(stage));
         if (op < 0) fail("stage " + stageText + " has no operation '" + rest.substr(11) + "'");

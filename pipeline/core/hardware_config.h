@@ -60,7 +60,8 @@ HardwareConfig readHardwareConfig(const std::string& path);
 HardwareConfig defaultHardwareConfig();  // pipeline/hw/default.json
 
 // Sets one parameter by its path ("RS.units", "RS.throughput.ray_box_tests", "RS.latency",
-// "RS.fifo_depth", "clock_ghz", "scratch_budget_bytes"); throws InputError(source, path) if unknown.
+// "RS.fifo_depth", "clock_ghz", "scratch_budget_bytes"); throws InputError(source, path) if
+// unknown.
 void setHardwareParameter(HardwareConfig& config, const std::string& path, double value,
                           const std::string& source);
 

@@ -18,7 +18,6 @@ std::string lineColumn(std::string_view text, std::size_t byte) {
     return "line " + std::to_string(line) + ", column " + std::to_string(column);
 }
 
-
 }  // namespace
 
 Json parseJson(std::string_view text, const std::string& path) {
@@ -34,7 +33,8 @@ Json parseJson(std::string_view text, const std::string& path) {
     } catch (const Json::exception& e) {
         // Numbers beyond double range ("number overflow parsing '1e999'").
         std::string message = e.what();
-        if (auto pos = message.find(']'); pos != std::string::npos) message = message.substr(pos + 2);
+        if (auto pos = message.find(']'); pos != std::string::npos)
+            message = message.substr(pos + 2);
         throw InputError(path, "", "JSON " + message);
     }
 }

@@ -139,5 +139,4 @@ class ObjectReader {
     std::set<std::string> used_;
 };
 
-
 }  // namespace patchsim

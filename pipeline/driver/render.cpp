@@ -60,7 +60,8 @@ std::vector<PatchRasterWork> runPatchVisibility(const std::vector<MovingMesh>& m
         }
     }
     // Tile work per patch, per row class (fixed slots), summed afterwards in a fixed order.
-    std::vector<std::vector<WorkCounts>> classWork(kRowClasses, std::vector<WorkCounts>(meshes.size()));
+    std::vector<std::vector<WorkCounts>> classWork(kRowClasses,
+                                                   std::vector<WorkCounts>(meshes.size()));
     const int tileSize = rasterizer.options().tileSize;
     const int tileRows = (targets.opaque->height() + tileSize - 1) / tileSize;
     parallelFor(kRowClasses, threads, [&](int, std::size_t rowClass) {
@@ -157,8 +158,9 @@ RenderResult renderScene(const SceneDesc& scene, const RenderOptions& options) {
 
     start = std::chrono::steady_clock::now();
     std::vector<PatchRasterWork> rasterWork(count);
-    const SampleGenerator samples(scene.film.seed, scene.film.samplesPerPixel, result.effects,
-                                  scene.film.gridSamples ? SamplePattern::Grid : SamplePattern::Stratified);
+    const SampleGenerator samples(
+        scene.film.seed, scene.film.samplesPerPixel, result.effects,
+        scene.film.gridSamples ? SamplePattern::Grid : SamplePattern::Stratified);
     const LensModel lens{result.effects.defocus ? scene.lens.apertureRadius : 0.0f,
                          scene.lens.focusDistance};
     result.visibility = std::make_unique<VisibilityBuffer>(
@@ -201,9 +203,10 @@ RenderResult renderScene(const SceneDesc& scene, const RenderOptions& options) {
     result.frame = resolveFrame(context, *result.visibility, result.transparent.get(),
                                 options.resolve, workers);
     result.shadingSeconds = secondsSince(start);
-    result.patchOps = collectPatchOps(patches, rasterWork,
-                                      shadingWorkPerPatch(*result.visibility, result.transparent.get(),
-                                                          options.resolve.shadingRate, count));
+    result.patchOps =
+        collectPatchOps(patches, rasterWork,
+                        shadingWorkPerPatch(*result.visibility, result.transparent.get(),
+                                            options.resolve.shadingRate, count));
     return result;
 }
 

@@ -12,10 +12,10 @@
 #include <vector>
 
 #include "backend/resolve.h"
-#include "pipeline/driver/timing_model.h"
 #include "pipeline/core/effects.h"
 #include "pipeline/core/rasterizer_options.h"
 #include "pipeline/core/scene.h"
+#include "pipeline/driver/timing_model.h"
 #include "rasterizer/patch_rasterizer.h"
 
 namespace patchsim {

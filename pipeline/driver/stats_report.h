@@ -16,7 +16,7 @@ struct StatsContext {
     std::string command;                                     // "tessellate", "info", ...
     std::string scene;                                       // scene path
     std::vector<std::pair<std::string, std::string>> facts;  // extra key/value lines
-    const TimingReport* timing = nullptr;                      // cycle report, when modelled
+    const TimingReport* timing = nullptr;                    // cycle report, when modelled
 };
 
 void printCounterTable(std::ostream& out, const CounterValues& values);

@@ -36,7 +36,9 @@ TimingReport simulateTiming(const std::vector<PatchOps>& patches, const Hardware
             if (s + 1 < kStageCount) {
                 const int depth = config.stages[std::size_t(s + 1)].fifoDepth;
                 if (p >= std::size_t(depth))
-                    delivered = std::max(delivered, report.patches[p - std::size_t(depth)].start[std::size_t(s + 1)]);
+                    delivered =
+                        std::max(delivered,
+                                 report.patches[p - std::size_t(depth)].start[std::size_t(s + 1)]);
             }
             t.delivered[std::size_t(s)] = delivered;
             StageTiming& st = report.stages[std::size_t(s)];
@@ -48,7 +50,8 @@ TimingReport simulateTiming(const std::vector<PatchOps>& patches, const Hardware
         report.patchesOverBudget += patches[p].hierarchyBytes > config.scratchBudgetBytes;
     }
     if (!patches.empty())
-        report.totalCycles = report.patches.back().delivered[kStageCount - 1] + config.stages.back().latency;
+        report.totalCycles =
+            report.patches.back().delivered[kStageCount - 1] + config.stages.back().latency;
     double busiest = -1;
     for (int s = 0; s < kStageCount; ++s) {
         StageTiming& st = report.stages[std::size_t(s)];
@@ -64,9 +67,15 @@ TimingReport simulateTiming(const std::vector<PatchOps>& patches, const Hardware
 void writeChromeTrace(const TimingReport& report, std::ostream& out) {
     nlohmann::ordered_json events = nlohmann::ordered_json::array();
     for (int s = 0; s < kStageCount; ++s) {
-        events.push_back({{"name", "thread_name"}, {"ph", "M"}, {"pid", 0}, {"tid", s},
+        events.push_back({{"name", "thread_name"},
+                          {"ph", "M"},
+                          {"pid", 0},
+                          {"tid", s},
                           {"args", {{"name", stageName(Stage(s))}}}});
-        events.push_back({{"name", "thread_sort_index"}, {"ph", "M"}, {"pid", 0}, {"tid", s},
+        events.push_back({{"name", "thread_sort_index"},
+                          {"ph", "M"},
+                          {"pid", 0},
+                          {"tid", s},
                           {"args", {{"sort_index", s}}}});
     }
     const double usPerCycle = 1.0 / (report.clockGHz * 1000.0);
@@ -75,14 +84,22 @@ void writeChromeTrace(const TimingReport& report, std::ostream& out) {
         for (int s = 0; s < kStageCount; ++s) {
             const double start = t.start[std::size_t(s)], finish = t.finish[std::size_t(s)];
             if (finish <= start) continue;
-            events.push_back({{"name", "patch " + std::to_string(p)}, {"cat", stageName(Stage(s))},
-                              {"ph", "X"}, {"pid", 0}, {"tid", s}, {"ts", start * usPerCycle},
+            events.push_back({{"name", "patch " + std::to_string(p)},
+                              {"cat", stageName(Stage(s))},
+                              {"ph", "X"},
+                              {"pid", 0},
+                              {"tid", s},
+                              {"ts", start * usPerCycle},
                               {"dur", (finish - start) * usPerCycle},
-                              {"args", {{"patch", p}, {"start_cycle", start}, {"busy_cycles", finish - start},
-                                        {"stalled_cycles", t.delivered[std::size_t(s)] - finish}}}});
+                              {"args",
+                               {{"patch", p},
+                                {"start_cycle", start},
+                                {"busy_cycles", finish - start},
+                                {"stalled_cycles", t.delivered[std::size_t(s)] - finish}}}});
         }
     }
-    out << nlohmann::ordered_json{{"traceEvents", events}, {"displayTimeUnit", "ns"}}.dump() << "\n";
+    out << nlohmann::ordered_json{{"traceEvents", events}, {"displayTimeUnit", "ns"}}.dump()
+        << "\n";
 }
 
 void printTimingReport(const TimingReport& r, std::ostream& out) {
@@ -93,8 +110,8 @@ void printTimingReport(const TimingReport& r, std::ostream& out) {
     out << "  stage        busy     stalled     starved  utilisation\n";
     for (int s = 0; s < kStageCount; ++s) {
         const StageTiming& st = r.stages[std::size_t(s)];
-        std::snprintf(line, sizeof line, "  %-5s %11.0f %11.0f %11.0f  %10.1f%%\n", stageName(Stage(s)),
-                      st.busy, st.stalled, st.starved, 100.0 * st.utilisation);
+        std::snprintf(line, sizeof line, "  %-5s %11.0f %11.0f %11.0f  %10.1f%%\n",
+                      stageName(Stage(s)), st.busy, st.stalled, st.starved, 100.0 * st.utilisation);
         out << line;
     }
     std::snprintf(line, sizeof line, "  peak scratch %llu bytes, %zu patches over the budget\n",

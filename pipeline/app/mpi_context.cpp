@@ -1,0 +1,67 @@
+#include "pipeline/app/mpi_context.h"
+
+#include <cstdlib>
+
+#ifdef PATCHSIM_HAVE_MPI
+#include <mpi.h>
+#endif
+
+namespace patchsim {
+
+namespace {
+bool startedByMpirun() {
+    return std::getenv("OMPI_COMM_WORLD_SIZE") || std::getenv("PMI_SIZE") ||
+           std::getenv("PMIX_RANK");
+}
+}  // namespace
+
+MpiContext::MpiContext(int& argc, char**& argv) {
+#ifdef PATCHSIM_HAVE_MPI
+    if (!startedByMpirun()) return;
+    MPI_Init(&argc, &argv);
+    MPI_Comm_rank(MPI_COMM_WORLD, &rank_);
+    MPI_Comm_size(MPI_COMM_WORLD, &size_);
+    active_ = true;
+#else
+    (void)argc;
+    (void)argv;
+    (void)startedByMpirun;
+#endif
+}
+
+MpiContext::~MpiContext() {
+#ifdef PATCHSIM_HAVE_MPI
+    if (active_) MPI_Finalize();
+#endif
+}
+
+std::vector<std::string> MpiContext::gather(const std::string& text) const {
+    if (!active_) return {text};
+#ifdef PATCHSIM_HAVE_MPI
+    int length = int(text.size());
+    std::vector<int> lengths(static_cast<std::size_t>(size_)),
+        offsets(static_cast<std::size_t>(size_));
+    MPI_Gather(&length, 1, MPI_INT, lengths.data(), 1, MPI_INT, 0, MPI_COMM_WORLD);
+    std::vector<char> all;
+    if (rank_ == 0) {
+        int total = 0;
+        for (int r = 0; r < size_; ++r) {
+            offsets[std::size_t(r)] = total;
+            total += lengths[std::size_t(r)];
+        }
+        all.resize(std::size_t(total));
+    }
+    MPI_Gatherv(text.data(), length, MPI_CHAR, all.data(), lengths.data(), offsets.data(), MPI_CHAR,
+                0, MPI_COMM_WORLD);
+    std::vector<std::string> parts;
+    if (rank_ == 0)
+        for (int r = 0; r < size_; ++r)
+            parts.emplace_back(all.data() + offsets[std::size_t(r)],
+                               std::size_t(lengths[std::size_t(r)]));
+    return parts;
+#else
+    return {text};
+#endif
+}
+
+}  // namespace patchsim

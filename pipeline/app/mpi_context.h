@@ -1,0 +1,28 @@
+#pragma once
+// MPI for `patchsim explore`, when the build found OpenMPI and the process was started by mpirun:
+// ranks and a gather of text to rank 0. Without MPI (or outside mpirun) there is one rank.
+
+#include <string>
+#include <vector>
+
+namespace patchsim {
+
+class MpiContext {
+  public:
+    MpiContext(int& argc, char**& argv);
+    ~MpiContext();
+    MpiContext(const MpiContext&) = delete;
+    MpiContext& operator=(const MpiContext&) = delete;
+
+    int rank() const { return rank_; }
+    int size() const { return size_; }
+    bool active() const { return active_; }
+    // Every rank's text, in rank order, on rank 0 (empty elsewhere).
+    std::vector<std::string> gather(const std::string& text) const;
+
+  private:
+    int rank_ = 0, size_ = 1;
+    bool active_ = false;
+};
+
+}  // namespace patchsim

@@ -1,0 +1,302 @@
+#include "pipeline/driver/explore.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+#include <map>
+#include <sstream>
+
+#include "pipeline/core/counters.h"
+#include "pipeline/core/json_fields.h"
+#include "pipeline/core/text_file.h"
+#include "pipeline/driver/render.h"
+#include "pipeline/driver/timing_model.h"
+
+namespace patchsim {
+
+namespace {
+
+constexpr const char* kRasterAxes[] = {
+    "tile_size",       "leaf_size", "bounds_level",           "branch_method",
+    "time_refinement", "z_culling", "max_triangles_per_group"};
+
+std::string jsonValueText(const Json& v) {
+    if (v.is_string()) return v.get<std::string>();
+    if (v.is_boolean()) return v.get<bool>() ? "true" : "false";
+    if (v.is_number_integer()) return std::to_string(v.get<std::int64_t>());
+    char text[32];
+    std::snprintf(text, sizeof text, "%g", v.get<double>());
+    return text;
+}
+
+void applyRasterOption(RasterizerOptions& o, const std::string& name, const std::string& value,
+                       const std::string& source) {
+    auto integer = [&] {
+        try {
+            return std::stoi(value);
+        } catch (...) {
+            throw InputError(source, "rasterizer." + name, "'" + value + "' is not an integer");
+        }
+    };
+    auto boolean = [&] {
+        if (value != "true" && value != "false")
+            throw InputError(source, "rasterizer." + name, "'" + value + "' is not true or false");
+        return value == "true";
+    };
+    if (name == "tile_size")
+        o.tileSize = integer();
+    else if (name == "leaf_size") {
+        // A hierarchy has at most 64 leaves: smaller leaves make smaller groups.
+        o.leafSize = integer();
+        o.maxTrianglesPerGroup = std::min(o.maxTrianglesPerGroup, 64 * o.leafSize);
+    } else if (name == "bounds_level")
+        o.boundsLevel = integer();
+    else if (name == "max_triangles_per_group")
+        o.maxTrianglesPerGroup = integer();
+    else if (name == "time_refinement")
+        o.timeRefinement = boolean();
+    else if (name == "z_culling")
+        o.zCulling = boolean();
+    else if (name == "branch_method") {
+        if (!parseBranchMethod(value, o.branchMethod))
+            throw InputError(source, "rasterizer.branch_method", "unknown method '" + value + "'");
+    }
+}
+
+std::string csvField(std::string text) {
+    std::replace(text.begin(), text.end(), ',', ';');
+    return text;
+}
+
+std::string formatNumber(double v) {
+    char text[40];
+    std::snprintf(text, sizeof text, "%.10g", v);
+    return text;
+}
+
+// Mixed-radix enumeration of a cross product (last axis fastest).
+std::vector<std::vector<std::size_t>> crossProduct(const std::vector<GridAxis>& axes) {
+    std::vector<std::vector<std::size_t>> out{{}};
+    for (const GridAxis& axis : axes) {
+        std::vector<std::vector<std::size_t>> next;
+        for (const auto& prefix : out)
+            for (std::size_t v = 0; v < axis.values.size(); ++v) {
+                next.push_back(prefix);
+                next.back().push_back(v);
+            }
+        out = std::move(next);
+    }
+    return out;
+}
+
+}  // namespace
+
+ExploreGrid parseExploreGrid(std::string_view text, const std::string& path) {
+    const Json json = parseJson(text, path);
+    ExploreGrid grid;
+    ObjectReader root(json, "", path);
+    auto readAxis = [&](ObjectReader& section, const std::string& key, bool hardware) {
+        const Json* values = section.find(key);
+        const std::string field = section.fieldName(key);
+        if (!values->is_array() || values->empty())
+            section.fail(field, "expected a non-empty array of values");
+        GridAxis axis{key, hardware, {}};
+        for (std::size_t i = 0; i < values->size(); ++i) {
+            const Json& v = (*values)[i];
+            if (!v.is_number() && !v.is_string() && !v.is_boolean())
+                section.fail(field + "[" + std::to_string(i) + "]",
+                             "expected a number, string or boolean");
+            axis.values.push_back(jsonValueText(v));
+        }
+        return axis;
+    };
+    if (auto raster = root.object("rasterizer")) {
+        for (const char* name : kRasterAxes) {
+            if (!raster->find(name)) continue;
+            GridAxis axis = readAxis(*raster, name, false);
+            RasterizerOptions probe;
+            for (const std::string& v : axis.values) applyRasterOption(probe, name, v, path);
+            grid.rasterAxes.push_back(std::move(axis));
+        }
+        raster->finish();
+    }
+    if (const Json* hw = root.find("hardware")) {
+        if (!hw->is_object()) root.fail("hardware", "expected an object of parameter arrays");
+        ObjectReader hardware(*hw, "hardware", path);
+        for (auto it = hw->begin(); it != hw->end(); ++it) {
+            GridAxis axis = readAxis(hardware, it.key(), true);
+            HardwareConfig probe = defaultHardwareConfig();
+            for (const std::string& v : axis.values) {
+                char* end = nullptr;
+                const double number = std::strtod(v.c_str(), &end);
+                if (end == v.c_str() || *end)
+                    hardware.fail("hardware." + it.key(), "'" + v + "' is not a number");
+                setHardwareParameter(probe, it.key(), number, path);
+            }
+            grid.hardwareAxes.push_back(std::move(axis));
+        }
+    }
+    if (auto film = root.object("film")) {
+        grid.width = int(film->integer("width", 0, 1, 16384));
+        grid.height = int(film->integer("height", 0, 1, 16384));
+        grid.samplesPerPixel = int(film->integer("spp", 0, 1, 4096));
+        film->finish();
+    }
+    root.finish();
+    return grid;
+}
+
+std::vector<ExploreJob> exploreJobs(std::size_t sceneCount, const ExploreGrid& grid) {
+    std::vector<ExploreJob> jobs;
+    const auto raster = crossProduct(grid.rasterAxes);
+    for (std::size_t s = 0; s < sceneCount; ++s)
+        for (const auto& choice : raster) jobs.push_back({s, choice});
+    return jobs;
+}
+
+std::string exploreCsvHeader(const ExploreGrid& grid) {
+    std::string header = "scene";
+    for (const GridAxis& a : grid.rasterAxes) header.append(",").append(a.name);
+    for (const GridAxis& a : grid.hardwareAxes) header.append(",").append(a.name);
+    header +=
+        ",total_cycles,microseconds,bottleneck,sample_test_efficiency,patches_over_scratch_budget";
+    for (const auto& [name, value] : CounterRegistry::instance().snapshot())
+        header.append(",").append(name);
+    return header;
+}
+
+std::vector<std::string> runExploreJob(const std::vector<SceneDesc>& scenes,
+                                       const ExploreGrid& grid, const HardwareConfig& baseHardware,
+                                       const ExploreJob& job, int threads) {
+    SceneDesc scene = scenes[job.scene];
+    for (std::size_t a = 0; a < grid.rasterAxes.size(); ++a)
+        applyRasterOption(scene.rasterizer, grid.rasterAxes[a].name,
+                          grid.rasterAxes[a].values[job.rasterChoice[a]], "grid");
+    if (grid.width) scene.film.width = grid.width;
+    if (grid.height) scene.film.height = grid.height;
+    if (grid.samplesPerPixel) scene.film.samplesPerPixel = grid.samplesPerPixel;
+    RenderOptions options;
+    options.threads = threads;
+    CounterRegistry::instance().reset();
+    const RenderResult result = renderScene(scene, options);
+    const CounterValues counters = CounterRegistry::instance().snapshot();
+    const std::int64_t tested = counters.at("RS/Samples tested");
+    const double ste = tested ? double(counters.at("RS/Visibility samples")) / double(tested) : 0.0;
+    std::string prefix = csvField(scene.path);
+    for (std::size_t a = 0; a < grid.rasterAxes.size(); ++a)
+        prefix.append(",").append(grid.rasterAxes[a].values[job.rasterChoice[a]]);
+    std::vector<std::string> rows;
+    for (const auto& choice : crossProduct(grid.hardwareAxes)) {
+        HardwareConfig hw = baseHardware;
+        std::string row = prefix;
+        for (std::size_t a = 0; a < grid.hardwareAxes.size(); ++a) {
+            const std::string& v = grid.hardwareAxes[a].values[choice[a]];
+            setHardwareParameter(hw, grid.hardwareAxes[a].name, std::strtod(v.c_str(), nullptr),
+                                 "grid");
+            row.append(",").append(v);
+        }
+        const TimingReport t = simulateTiming(result.patchOps, hw);
+        for (const std::string& field :
+             {formatNumber(t.totalCycles), formatNumber(t.microseconds()),
+              std::string(stageName(t.bottleneck)), formatNumber(ste),
+              std::to_string(t.patchesOverBudget)})
+            row.append(",").append(field);
+        for (const auto& [name, value] : counters) row.append(",").append(std::to_string(value));
+        rows.push_back(std::move(row));
+    }
+    return rows;
+}
+
+void runExploreJobs(const std::vector<SceneDesc>& scenes, const ExploreGrid& grid,
+                    const HardwareConfig& baseHardware, int threads,
+                    const std::function<bool(std::size_t)>& mine,
+                    const std::function<void(std::size_t, const std::vector<std::string>&)>& emit) {
+    const std::vector<ExploreJob> jobs = exploreJobs(scenes.size(), grid);
+    for (std::size_t j = 0; j < jobs.size(); ++j)
+        if (mine(j)) emit(j, runExploreJob(scenes, grid, baseHardware, jobs[j], threads));
+}
+
+std::vector<std::string> writeExplorePlots(const std::string& csvText, const ExploreGrid& grid,
+                                           const std::string& dir) {
+    std::istringstream in(csvText);
+    std::string line;
+    std::getline(in, line);
+    auto split = [](const std::string& s) {
+        std::vector<std::string> fields;
+        std::stringstream ss(s);
+        std::string f;
+        while (std::getline(ss, f, ',')) fields.push_back(f);
+        return fields;
+    };
+    const std::vector<std::string> header = split(line);
+    std::vector<std::vector<std::string>> rows;
+    while (std::getline(in, line))
+        if (!line.empty()) rows.push_back(split(line));
+    const auto column = [&](const std::string& name) {
+        return std::size_t(std::find(header.begin(), header.end(), name) - header.begin());
+    };
+    const std::size_t cyclesColumn = column("total_cycles");
+    double maxCycles = 1;
+    for (const auto& r : rows)
+        maxCycles = std::max(maxCycles, std::strtod(r[cyclesColumn].c_str(), nullptr));
+    std::vector<GridAxis> axes = grid.rasterAxes;
+    axes.insert(axes.end(), grid.hardwareAxes.begin(), grid.hardwareAxes.end());
+    std::vector<std::string> written;
+    for (const GridAxis& axis : axes) {
+        const std::size_t c = column(axis.name);
+        constexpr double kW = 520, kH = 340, kLeft = 90, kRight = 20, kTop = 40, kBottom = 60;
+        const double plotW = kW - kLeft - kRight, plotH = kH - kTop - kBottom;
+        auto xOf = [&](std::size_t i) {
+            return kLeft + plotW * (double(i) + 0.5) / double(axis.values.size());
+        };
+        auto yOf = [&](double cycles) {
+            return kTop + plotH * (1.0 - cycles / (maxCycles * 1.05));
+        };
+        std::ostringstream svg;
+        svg << "<svg xmlns='http://www.w3.org/2000/svg' width='" << kW << "' height='" << kH
+            << "' font-family='sans-serif' font-size='12'>\n<rect width='100%' height='100%' "
+               "fill='white'/>\n"
+            << "<text x='" << kW / 2
+            << "' y='22' text-anchor='middle' font-size='14'>modelled cycles against " << axis.name
+            << "</text>\n"
+            << "<line x1='" << kLeft << "' y1='" << kTop + plotH << "' x2='" << kLeft + plotW
+            << "' y2='" << kTop + plotH << "' stroke='black'/>\n<line x1='" << kLeft << "' y1='"
+            << kTop << "' x2='" << kLeft << "' y2='" << kTop + plotH << "' stroke='black'/>\n";
+        for (int tick = 0; tick <= 4; ++tick) {
+            const double v = maxCycles * 1.05 * tick / 4;
+            svg << "<text x='" << kLeft - 6 << "' y='" << yOf(v) + 4 << "' text-anchor='end'>"
+                << formatNumber(std::round(v)) << "</text>\n";
+        }
+        std::vector<double> sum(axis.values.size(), 0.0);
+        std::vector<int> count(axis.values.size(), 0);
+        for (const auto& r : rows) {
+            const auto it = std::find(axis.values.begin(), axis.values.end(), r[c]);
+            if (it == axis.values.end()) continue;
+            const std::size_t i = std::size_t(it - axis.values.begin());
+            const double cycles = std::strtod(r[cyclesColumn].c_str(), nullptr);
+            sum[i] += cycles;
+            ++count[i];
+            svg << "<circle cx='" << xOf(i) << "' cy='" << yOf(cycles)
+                << "' r='3' fill='#4c72b0' fill-opacity='0.5'/>\n";
+        }
+        svg << "<polyline fill='none' stroke='#c44e52' stroke-width='2' points='";
+        for (std::size_t i = 0; i < axis.values.size(); ++i)
+            if (count[i]) svg << xOf(i) << "," << yOf(sum[i] / count[i]) << " ";
+        svg << "'/>\n";
+        for (std::size_t i = 0; i < axis.values.size(); ++i)
+            svg << "<text x='" << xOf(i) << "' y='" << kTop + plotH + 18
+                << "' text-anchor='middle'>" << axis.values[i] << "</text>\n";
+        svg << "<text x='" << kLeft + plotW / 2 << "' y='" << kH - 14 << "' text-anchor='middle'>"
+            << axis.name << " (dots: every point; line: mean)</text>\n</svg>\n";
+        std::string file = axis.name;
+        std::replace(file.begin(), file.end(), '.', '_');
+        const std::string path = dir + "/cycles_vs_" + file + ".svg";
+        writeFileAtomically(path, [&](std::ostream& out) { out << svg.str(); });
+        written.push_back(path);
+    }
+    return written;
+}
+
+}  // namespace patchsim

@@ -1,0 +1,61 @@
+#pragma once
+// `patchsim explore`: design-space exploration. A grid file lists values for rasterizer options
+// and hardware parameters; every point of their cross product, for every scene, becomes one CSV
+// row with the options, the modelled cycles, the bottleneck and every counter. A scene is rendered
+// once per rasterizer combination (its counted work does not depend on the hardware), and the
+// timing model is then run for each hardware combination.
+//
+// Jobs (one render each) are numbered in a fixed order; rows come out in that order whether the
+// jobs ran on one process or were spread over MPI ranks (docs/EXPLORE.md).
+
+#include <functional>
+#include <ostream>
+#include <string>
+#include <vector>
+
+#include "pipeline/core/hardware_config.h"
+#include "pipeline/core/scene.h"
+
+namespace patchsim {
+
+struct GridAxis {
+    std::string name;  // "tile_size", "RS.units", ...
+    bool hardware = false;
+    std::vector<std::string> values;  // as written in the CSV (numbers or names)
+};
+
+struct ExploreGrid {
+    std::vector<GridAxis> rasterAxes, hardwareAxes;
+    // Optional film overrides so sweeps run at a chosen cost.
+    int width = 0, height = 0, samplesPerPixel = 0;
+};
+
+// Throws InputError naming the file and field.
+ExploreGrid parseExploreGrid(std::string_view text, const std::string& path);
+
+struct ExploreJob {
+    std::size_t scene = 0;
+    std::vector<std::size_t> rasterChoice;  // index into each raster axis
+};
+
+std::vector<ExploreJob> exploreJobs(std::size_t sceneCount, const ExploreGrid& grid);
+
+// Renders one job and returns its CSV rows (one per hardware combination, without newline).
+std::vector<std::string> runExploreJob(const std::vector<SceneDesc>& scenes,
+                                       const ExploreGrid& grid, const HardwareConfig& baseHardware,
+                                       const ExploreJob& job, int threads);
+
+std::string exploreCsvHeader(const ExploreGrid& grid);
+
+// Runs jobs [0, n) for which `mine(j)` is true, in order; `emit(j, rows)` receives each job's rows.
+void runExploreJobs(const std::vector<SceneDesc>& scenes, const ExploreGrid& grid,
+                    const HardwareConfig& baseHardware, int threads,
+                    const std::function<bool(std::size_t)>& mine,
+                    const std::function<void(std::size_t, const std::vector<std::string>&)>& emit);
+
+// One SVG per parameter: modelled cycles of every row against that parameter's values, with the
+// mean per value joined. Returns the files written.
+std::vector<std::string> writeExplorePlots(const std::string& csvText, const ExploreGrid& grid,
+                                           const std::string& dir);
+
+}  // namespace patchsim
