@@ -107,41 +107,42 @@ Ray sampleRay(const Camera& camera, const LensModel& lens, const SampleGenerator
     return makeCameraRay(screen, concentricDisk(smp.lens), smp.time, lens);
 }
 
-int intersectTriangles(const MovingMesh& mesh, const std::uint32_t* triangles, std::size_t count,
-                       const Ray& ray, float lambdaMin, float lambdaMax, VisibilityRecord& best) {
+namespace {
+
+// Calls onHit(record) for every triangle the ray hits at its time within [lambdaMin, lambdaMax].
+template <typename OnHit>
+void forEachHit(const MovingMesh& mesh, const std::uint32_t* triangles, std::size_t count,
+                const Ray& ray, float lambdaMin, float lambdaMax, const OnHit& onHit) {
     const ShearedRay sheared = shearRay(ray);
     for (std::size_t k = 0; k < count; ++k) {
         const std::uint32_t tri = triangles[k];
         const std::uint32_t* v = &mesh.indices[3 * std::size_t(tri)];
         TriangleHit hit;
-        if (!intersectTriangle(sheared, mesh.vertexAt(v[0], ray.time),
-                               mesh.vertexAt(v[1], ray.time), mesh.vertexAt(v[2], ray.time),
-                               lambdaMin, lambdaMax, hit))
-            continue;
-        const VisibilityRecord candidate{hit.lambda * ray.depthPerLambda, mesh.patchId, tri, hit.b1,
-                                         hit.b2};
-        if (candidate.nearerThan(best)) best = candidate;
+        if (intersectTriangle(sheared, mesh.vertexAt(v[0], ray.time), mesh.vertexAt(v[1], ray.time),
+                              mesh.vertexAt(v[2], ray.time), lambdaMin, lambdaMax, hit))
+            onHit(VisibilityRecord{hit.lambda * ray.depthPerLambda, mesh.patchId, tri, hit.b1,
+                                   hit.b2});
     }
+}
+
+}  // namespace
+
+int intersectTriangles(const MovingMesh& mesh, const std::uint32_t* triangles, std::size_t count,
+                       const Ray& ray, float lambdaMin, float lambdaMax, VisibilityRecord& best) {
+    forEachHit(mesh, triangles, count, ray, lambdaMin, lambdaMax, [&](const VisibilityRecord& hit) {
+        if (hit.nearerThan(best)) best = hit;
+    });
     return int(count);
 }
 
 int offerAllHits(const MovingMesh& mesh, const std::uint32_t* triangles, std::size_t count,
                  const Ray& ray, float lambdaMin, float lambdaMax, TransparentLayers& layers,
                  std::size_t sample, int pool, WorkCounts& work) {
-    const ShearedRay sheared = shearRay(ray);
-    for (std::size_t k = 0; k < count; ++k) {
-        const std::uint32_t tri = triangles[k];
-        const std::uint32_t* v = &mesh.indices[3 * std::size_t(tri)];
-        TriangleHit hit;
-        if (!intersectTriangle(sheared, mesh.vertexAt(v[0], ray.time),
-                               mesh.vertexAt(v[1], ray.time), mesh.vertexAt(v[2], ray.time),
-                               lambdaMin, lambdaMax, hit))
-            continue;
-        const LayerFragment f{{hit.lambda * ray.depthPerLambda, mesh.patchId, tri, hit.b1, hit.b2},
-                              mesh.objectId};
+    forEachHit(mesh, triangles, count, ray, lambdaMin, lambdaMax, [&](const VisibilityRecord& hit) {
         ++work.transparentFragments;
-        if (!layers.offer(sample, pool, f)) ++work.transparentOverflow;
-    }
+        if (!layers.offer(sample, pool, LayerFragment{hit, mesh.objectId}))
+            ++work.transparentOverflow;
+    });
     return int(count);
 }
 

@@ -7,11 +7,15 @@ namespace patchsim {
 TransparentLayers::TransparentLayers(std::size_t samples, int maxLayers)
     : maxLayers_(maxLayers), block_(samples, 0), count_(samples, 0), pools_(kPools) {}
 
+LayerFragment* TransparentLayers::block(std::uint32_t handle) {
+    return pools_[handle >> 24].data() +
+           std::size_t((handle & 0xffffffu) - 1) * std::size_t(maxLayers_);
+}
+
 const LayerFragment* TransparentLayers::layers(std::size_t sample) const {
-    const std::uint32_t b = block_[sample];
-    if (b == 0) return nullptr;
-    const std::vector<LayerFragment>& pool = pools_[b >> 24];
-    return pool.data() + std::size_t((b & 0xffffffu) - 1) * std::size_t(maxLayers_);
+    const std::uint32_t h = block_[sample];
+    if (h == 0) return nullptr;
+    return pools_[h >> 24].data() + std::size_t((h & 0xffffffu) - 1) * std::size_t(maxLayers_);
 }
 
 bool TransparentLayers::offer(std::size_t sample, int pool, const LayerFragment& f) {
@@ -21,7 +25,7 @@ bool TransparentLayers::offer(std::size_t sample, int pool, const LayerFragment&
         p.resize(p.size() + std::size_t(maxLayers_));
         block_[sample] = (std::uint32_t(pool) << 24) | std::uint32_t(blocks + 1);
     }
-    LayerFragment* slots = const_cast<LayerFragment*>(layers(sample));
+    LayerFragment* slots = block(block_[sample]);
     const int n = count_[sample];
     for (int i = 0; i < n; ++i) {
         LayerFragment& s = slots[i];

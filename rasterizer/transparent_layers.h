@@ -37,6 +37,8 @@ class TransparentLayers {
     const LayerFragment* layers(std::size_t sample) const;
 
   private:
+    LayerFragment* block(std::uint32_t handle);
+
     int maxLayers_;
     std::vector<std::uint32_t> block_;  // pool << 24 | (block + 1); 0: none yet
     std::vector<std::uint8_t> count_;

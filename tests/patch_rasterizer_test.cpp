@@ -11,6 +11,7 @@
 #include "pipeline/core/scene_reader.h"
 #include "pipeline/driver/render.h"
 #include "rasterizer/reference_rasterizer.h"
+#include "tests/render_compare.h"
 #include "tests/test_paths.h"
 
 namespace patchsim {
@@ -30,37 +31,8 @@ RenderResult renderWith(const SceneDesc& scene, VisibilityMethod method, int thr
     return renderScene(scene, options);
 }
 
-struct Comparison {
-    std::size_t samples = 0, hits = 0, mismatches = 0;
-};
-
-std::vector<std::tuple<float, int, std::uint32_t>> layerList(const TransparentLayers* layers,
-                                                             std::size_t i) {
-    std::vector<std::tuple<float, int, std::uint32_t>> list;
-    if (!layers) return list;
-    for (int k = 0; k < layers->count(i); ++k) {
-        const VisibilityRecord& r = layers->layers(i)[k].record;
-        list.emplace_back(r.depth, r.patch, r.triangle);
-    }
-    std::sort(list.begin(), list.end());
-    return list;
-}
-
-// Sample for sample: the same patch, triangle and depth bits, and the same transparent layers.
-Comparison compare(const RenderResult& a, const RenderResult& b) {
-    Comparison c;
-    for (std::size_t i = 0; i < a.visibility->records().size(); ++i) {
-        const VisibilityRecord& x = a.visibility->records()[i];
-        const VisibilityRecord& y = b.visibility->records()[i];
-        ++c.samples;
-        c.hits += x.hit();
-        if (x.patch != y.patch || (x.hit() && (x.triangle != y.triangle || x.depth != y.depth)))
-            ++c.mismatches;
-        else if (layerList(a.transparent.get(), i) != layerList(b.transparent.get(), i))
-            ++c.mismatches;
-    }
-    return c;
-}
+using test::compare;
+using test::Comparison;
 
 TEST(PatchRasterizer, MatchesTheReferenceOnEveryShippedScene) {
     for (const std::string& path : test::sceneFiles()) {
