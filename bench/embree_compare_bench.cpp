@@ -1,0 +1,135 @@
+// The same visibility work, side by side: every sample of the default scene's frame resolved by
+// the patch rasterizer (hierarchies, tile tests, rays from branch nodes) and by Embree 3 tracing
+// one motion-blurred ray per sample through a BVH over the same tessellated, camera-space
+// triangles (two time steps, linear motion, the same rays: same origins, directions and times).
+// Built only when CMake finds Embree 3 (Debian's libembree-dev).
+
+#include <benchmark/benchmark.h>
+#include <embree3/rtcore.h>
+
+#include "pipeline/core/counters.h"
+#include "pipeline/core/scene_reader.h"
+#include "pipeline/driver/render.h"
+#include "rasterizer/patch_rasterizer.h"
+#include "tessellator/front_end.h"
+
+namespace {
+
+using namespace patchsim;
+
+struct Frame {
+    SceneDesc scene = patchsim::defaultScene();
+    std::unique_ptr<FrontEnd> frontEnd;
+    Effects effects;
+    std::vector<MovingMesh> meshes;
+    std::unique_ptr<SampleGenerator> samples;
+    LensModel lens;
+
+    Frame() {
+        frontEnd = std::make_unique<FrontEnd>(scene);
+        effects = detectEffects(scene, frontEnd->geometryMoves(), frontEnd->camera().moves());
+        FrontEndWorkspace ws = frontEnd->makeWorkspace();
+        TessellatedPatch patch;
+        meshes.resize(frontEnd->patchCount());
+        for (std::size_t i = 0; i < meshes.size(); ++i) {
+            frontEnd->tessellate(i, patch, ws);
+            toMovingMesh(patch, frontEnd->camera(), effects.motion, int(i), true, meshes[i]);
+        }
+        samples = std::make_unique<SampleGenerator>(scene.film.seed, scene.film.samplesPerPixel, effects);
+        lens = {scene.lens.apertureRadius, scene.lens.focusDistance};
+    }
+    std::int64_t sampleCount() const {
+        return std::int64_t(scene.film.width) * scene.film.height * scene.film.samplesPerPixel;
+    }
+};
+
+const Frame& frame() {
+    static const Frame f;
+    return f;
+}
+
+void patchRasterizer(benchmark::State& state) {
+    const Frame& f = frame();
+    const Camera& camera = f.frontEnd->camera();
+    const PatchRasterizer rasterizer(camera, f.lens, *f.samples, f.effects, f.scene.rasterizer);
+    std::int64_t hits = 0;
+    for (auto _ : state) {
+        VisibilityBuffer buffer(f.scene.film.width, f.scene.film.height, f.scene.film.samplesPerPixel,
+                                camera.farPlane());
+        runPatchVisibility(f.meshes, rasterizer, 1, {&buffer, nullptr, nullptr, 0});
+        hits = 0;
+        for (const VisibilityRecord& r : buffer.records()) hits += r.hit();
+    }
+    state.counters["samples/s"] =
+        benchmark::Counter(double(f.sampleCount()), benchmark::Counter::kIsIterationInvariantRate);
+    state.counters["covered samples"] = double(hits);
+}
+BENCHMARK(patchRasterizer)->Unit(benchmark::kMillisecond);
+
+void embree(benchmark::State& state) {
+    const Frame& f = frame();
+    const Camera& camera = f.frontEnd->camera();
+    RTCDevice device = rtcNewDevice("threads=1");
+    RTCScene scene = rtcNewScene(device);
+    for (const MovingMesh& m : f.meshes) {
+        RTCGeometry geometry = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
+        rtcSetGeometryTimeStepCount(geometry, 2);
+        for (unsigned step = 0; step < 2; ++step) {
+            auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_VERTEX, step,
+                                                                  RTC_FORMAT_FLOAT3, 3 * sizeof(float),
+                                                                  m.position0.size()));
+            const std::vector<Vec3>& p = step == 0 ? m.position0 : m.position1;
+            for (std::size_t i = 0; i < p.size(); ++i) {
+                v[3 * i] = p[i].x;
+                v[3 * i + 1] = p[i].y;
+                v[3 * i + 2] = p[i].z;
+            }
+        }
+        auto* idx = static_cast<unsigned*>(rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_INDEX, 0,
+                                                                   RTC_FORMAT_UINT3, 3 * sizeof(unsigned),
+                                                                   m.triangleCount()));
+        std::copy(m.indices.begin(), m.indices.end(), idx);
+        rtcCommitGeometry(geometry);
+        rtcAttachGeometry(scene, geometry);
+        rtcReleaseGeometry(geometry);
+    }
+    rtcCommitScene(scene);
+    std::int64_t hits = 0;
+    for (auto _ : state) {
+        hits = 0;
+        RTCIntersectContext context;
+        rtcInitIntersectContext(&context);
+        for (int y = 0; y < f.scene.film.height; ++y) {
+            for (int x = 0; x < f.scene.film.width; ++x) {
+                for (int s = 0; s < f.scene.film.samplesPerPixel; ++s) {
+                    const Ray ray = sampleRay(camera, f.lens, *f.samples, x, y, s);
+                    RTCRayHit rh;
+                    rh.ray.org_x = ray.origin.x;
+                    rh.ray.org_y = ray.origin.y;
+                    rh.ray.org_z = ray.origin.z;
+                    rh.ray.dir_x = ray.direction.x;
+                    rh.ray.dir_y = ray.direction.y;
+                    rh.ray.dir_z = ray.direction.z;
+                    rh.ray.tnear = camera.nearPlane() / ray.depthPerLambda;
+                    rh.ray.tfar = camera.farPlane() / ray.depthPerLambda;
+                    rh.ray.time = ray.time;
+                    rh.ray.mask = ~0u;
+                    rh.ray.flags = 0;
+                    rh.ray.id = 0;
+                    rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+                    rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+                    rtcIntersect1(scene, &context, &rh);
+                    hits += rh.hit.geomID != RTC_INVALID_GEOMETRY_ID;
+                }
+            }
+        }
+    }
+    state.counters["samples/s"] =
+        benchmark::Counter(double(f.sampleCount()), benchmark::Counter::kIsIterationInvariantRate);
+    state.counters["covered samples"] = double(hits);
+    rtcReleaseScene(scene);
+    rtcReleaseDevice(device);
+}
+BENCHMARK(embree)->Unit(benchmark::kMillisecond);
+
+}  // namespace
