@@ -377,7 +377,8 @@ void PatchRasterizer::traceSamples(const MovingMesh& mesh, const Group& group, c
     const bool motion = effects_.motion;
     for (int y = tile.y0; y < tile.y1; ++y) {
         for (int x = tile.x0; x < tile.x1; ++x) {
-            const WorkCounts pixelStart = work;
+            WorkCounts pixelStart;  // only read for heat maps
+            if (pixels) pixelStart = work;
             for (int s = 0; s < spp; ++s) {
                 ++work.samplesTested;
                 const Sample smp = samples_.sample(x, y, s);

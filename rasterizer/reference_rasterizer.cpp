@@ -1,5 +1,8 @@
 #include "rasterizer/reference_rasterizer.h"
 
+#include <algorithm>
+#include <numeric>
+
 #include "pipeline/core/counters.h"
 #include "rasterizer/patch_rasterizer.h"
 
@@ -18,7 +21,11 @@ void renderReferenceRows(const std::vector<MovingMesh>& meshes, const Camera& ca
     ReferenceWork work;
     WorkCounts layerWork;
     VisibilityBuffer& buffer = *targets.opaque;
-    std::vector<std::uint32_t> all;
+    // Triangle ids 0..n-1 once for the largest mesh; each mesh uses its own prefix.
+    std::size_t largest = 0;
+    for (const MovingMesh& mesh : meshes) largest = std::max(largest, mesh.triangleCount());
+    std::vector<std::uint32_t> all(largest);
+    std::iota(all.begin(), all.end(), std::uint32_t(0));
     for (int y = y0; y < y1; ++y) {
         for (int x = 0; x < buffer.width(); ++x) {
             for (int s = 0; s < buffer.samplesPerPixel(); ++s) {
@@ -28,10 +35,8 @@ void renderReferenceRows(const std::vector<MovingMesh>& meshes, const Camera& ca
                 VisibilityRecord best;
                 for (const MovingMesh& mesh : meshes) {
                     if (!mesh.opaque && targets.transparent) continue;
-                    all.resize(mesh.triangleCount());
-                    for (std::size_t i = 0; i < all.size(); ++i) all[i] = std::uint32_t(i);
-                    work.triangleTests += intersectTriangles(mesh, all.data(), all.size(), ray,
-                                                             lambdaMin, lambdaMax, best);
+                    work.triangleTests += intersectTriangles(mesh, all.data(), mesh.triangleCount(),
+                                                             ray, lambdaMin, lambdaMax, best);
                 }
                 // Transparent surfaces in front of the nearest opaque one (inclusive, widened as
                 // the patch method does, so both keep the same fragments).
@@ -39,10 +44,8 @@ void renderReferenceRows(const std::vector<MovingMesh>& meshes, const Camera& ca
                     best.hit() ? best.depth / ray.depthPerLambda * (1.0f + 1e-6f) : lambdaMax;
                 for (const MovingMesh& mesh : meshes) {
                     if (mesh.opaque || !targets.transparent) continue;
-                    all.resize(mesh.triangleCount());
-                    for (std::size_t i = 0; i < all.size(); ++i) all[i] = std::uint32_t(i);
                     work.triangleTests += offerAllHits(
-                        mesh, all.data(), all.size(), ray, lambdaMin, opaqueLambda,
+                        mesh, all.data(), mesh.triangleCount(), ray, lambdaMin, opaqueLambda,
                         *targets.transparent, buffer.index(x, y, s), targets.pool, layerWork);
                 }
                 ++work.samples;
