@@ -5,6 +5,7 @@
 
 #include "pipeline/core/counters.h"
 #include "pipeline/core/error.h"
+#include "tessellator/patch_boundary.h"
 
 namespace patchsim {
 
@@ -17,6 +18,11 @@ PATCHSIM_COUNTER("TS/Domain points", "points", "Domain points emitted by the D3D
                  tsPoints);
 PATCHSIM_COUNTER("TS/Triangles", "triangles", "Triangles emitted by the D3D11 tessellator",
                  tsTriangles);
+PATCHSIM_COUNTER(
+    "TS/Stitch points", "points",
+    "Points added on an edge where the neighbouring patch's fractional pattern differs "
+    "(an N-gon's half edges against a whole edge), so no T-junction remains",
+    tsStitchPoints);
 PATCHSIM_COUNTER(
     "DS/Evaluations", "points",
     "Domain points evaluated on the limit surface (one stencil, applied at t=0 and t=1)",
@@ -34,56 +40,6 @@ namespace {
 
 bool integerLike(Partitioning p) {
     return p == Partitioning::Integer || p == Partitioning::Pow2;
-}
-
-constexpr std::uint32_t kFixedOne = 0x10000u;
-std::uint32_t toFixed(float x) {
-    return std::uint32_t(std::lround(double(x) * 65536.0));
-}
-
-// Which patch edge (or corner) a local domain point lies on. Coordinates are exact multiples of
-// 2^-16, so the comparisons are exact.
-struct BoundaryPlace {
-    int corner = -1;
-    int edge = -1;
-    std::uint32_t s = 0;  // fixed-point parameter along the edge from its start corner
-};
-
-BoundaryPlace locate(PatchDomain domain, float u, float v) {
-    BoundaryPlace b;
-    if (domain == PatchDomain::Quad) {
-        if (u == 0 && v == 0)
-            b.corner = 0;
-        else if (u == 1 && v == 0)
-            b.corner = 1;
-        else if (u == 1 && v == 1)
-            b.corner = 2;
-        else if (u == 0 && v == 1)
-            b.corner = 3;
-        else if (v == 0)
-            b = {-1, 0, toFixed(u)};
-        else if (u == 1)
-            b = {-1, 1, toFixed(v)};
-        else if (v == 1)
-            b = {-1, 2, kFixedOne - toFixed(u)};
-        else if (u == 0)
-            b = {-1, 3, kFixedOne - toFixed(v)};
-        return b;
-    }
-    const std::uint32_t fu = toFixed(u), fv = toFixed(v);
-    if (fu == 0 && fv == 0)
-        b.corner = 0;
-    else if (fu == kFixedOne && fv == 0)
-        b.corner = 1;
-    else if (fu == 0 && fv == kFixedOne)
-        b.corner = 2;
-    else if (fv == 0)
-        b = {-1, 0, fu};
-    else if (fu + fv == kFixedOne)
-        b = {-1, 1, fv};
-    else if (fu == 0)
-        b = {-1, 2, kFixedOne - fv};
-    return b;
 }
 
 Vec3 safeNormal(const Vec3& du, const Vec3& dv) {
@@ -208,8 +164,8 @@ void FrontEnd::runHullShader(const SceneObject& object, const PatchInfo& patch,
     }
 }
 
-void FrontEnd::tessellate(std::size_t index, TessellatedPatch& out, FrontEndWorkspace& ws,
-                          bool evaluate) const {
+void FrontEnd::runTessellator(std::size_t index, TessellatedPatch& out,
+                              FrontEndWorkspace& ws) const {
     const auto it = std::upper_bound(patchOffsets_.begin(), patchOffsets_.end(), index);
     const std::size_t objectIndex = std::size_t(it - patchOffsets_.begin()) - 1;
     const SceneObject& object = objects_[objectIndex];
@@ -231,7 +187,47 @@ void FrontEnd::tessellate(std::size_t index, TessellatedPatch& out, FrontEndWork
         f.inside = out.insideFactors[0];
         ws.tessellator.tessellateTri(f, out.tessellation);
     }
+}
+
+int FrontEnd::stitchSharedEdges(TessellatedPatch& out, FrontEndWorkspace& ws) const {
+    const SubdivisionMesh& mesh = *objects_[std::size_t(out.object)].mesh;
+    const std::size_t objectBase = patchOffsets_[std::size_t(out.object)];
+    const PatchInfo& patch = mesh.patches()[std::size_t(out.patch)];
+    int added = 0;
+    std::vector<std::uint32_t>& wanted = ws.stitchPoints;
+    for (int e = 0; e < patch.cornerCount(); ++e) {
+        SubdivisionMesh::CageEdgeSpan mine;
+        if (!mesh.cageEdgeSpan(out.patch, e, mine)) continue;
+        wanted.clear();
+        for (const SubdivisionMesh::CageEdgeSpan& other :
+             mesh.spansOnCageEdge(patch.edgeSources[e].cageEdge)) {
+            if (other.patch == out.patch || other.start >= mine.start + mine.length ||
+                other.start + other.length <= mine.start)
+                continue;
+            runTessellator(objectBase + std::size_t(other.patch), ws.neighbour, ws);
+            if (ws.neighbour.culled()) continue;
+            for (const std::uint32_t s :
+                 pointsOnEdge(ws.neighbour.tessellation, ws.neighbour.domain, other.edge)) {
+                const std::uint32_t w = SubdivisionMesh::toCageEdge(other, s);
+                if (w > mine.start && w < mine.start + mine.length)
+                    wanted.push_back(SubdivisionMesh::fromCageEdge(mine, w));
+            }
+        }
+        std::sort(wanted.begin(), wanted.end());
+        wanted.erase(std::unique(wanted.begin(), wanted.end()), wanted.end());
+        added += insertEdgePoints(out.tessellation, out.domain, e, wanted);
+    }
+    return added;
+}
+
+void FrontEnd::tessellate(std::size_t index, TessellatedPatch& out, FrontEndWorkspace& ws,
+                          bool evaluate) const {
+    runTessellator(index, out, ws);
     if (out.culled()) ++hsCulled;
+    // Integer partitioning makes the two sides agree by construction (hull shader); fractional
+    // patterns of whole and half edges differ, so each side takes the other's points.
+    if (!out.culled() && !integerLike(hull_.partitioning))
+        tsStitchPoints += stitchSharedEdges(out, ws);
     tsPoints += std::int64_t(out.tessellation.points.size());
     tsTriangles += std::int64_t(out.triangleCount());
     for (int end = 0; end < 2; ++end) {
@@ -239,7 +235,8 @@ void FrontEnd::tessellate(std::size_t index, TessellatedPatch& out, FrontEndWork
         out.normal[end].clear();
     }
     out.surfaceUV.clear();
-    if (evaluate && !out.culled()) runDomainShader(object, patchIndex, out, ws);
+    if (evaluate && !out.culled())
+        runDomainShader(objects_[std::size_t(out.object)], out.patch, out, ws);
 }
 
 void FrontEnd::runDomainShader(const SceneObject& object, int patchIndex, TessellatedPatch& out,
@@ -273,7 +270,7 @@ void FrontEnd::runDomainShader(const SceneObject& object, int patchIndex, Tessel
         // Points on a shared edge or corner are evaluated on the owning patch (watertightness).
         int owner = patchIndex;
         float ownerUV[2] = {dp.u, dp.v};
-        const BoundaryPlace place = locate(self.domain, dp.u, dp.v);
+        const BoundaryPlace place = locateOnBoundary(self.domain, dp.u, dp.v);
         if (place.corner >= 0)
             mesh.ownerOfCorner(patchIndex, place.corner, segments, owner, ownerUV);
         else if (place.edge >= 0)
@@ -285,9 +282,10 @@ void FrontEnd::runDomainShader(const SceneObject& object, int patchIndex, Tessel
         mesh.evaluateStencil(ownerPatch.face, evalUV, ws.stencil);
         for (int end = 0; end < 2; ++end) {
             const std::vector<Vec3>& cps = object.points.at[end];
-            out.position[end][k] = mesh.applyStencil(ownerPatch.face, ws.stencil.position, cps);
-            const Vec3 du = mesh.applyStencil(ownerPatch.face, ws.stencil.du, cps);
-            const Vec3 dv = mesh.applyStencil(ownerPatch.face, ws.stencil.dv, cps);
+            const SubdivisionMesh::Stencil& st = ws.stencil;
+            out.position[end][k] = mesh.applyStencil(ownerPatch.face, st, st.position, cps);
+            const Vec3 du = mesh.applyStencil(ownerPatch.face, st, st.du, cps);
+            const Vec3 dv = mesh.applyStencil(ownerPatch.face, st, st.dv, cps);
             out.normal[end][k] = safeNormal(du, dv);
         }
     }

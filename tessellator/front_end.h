@@ -52,6 +52,8 @@ struct FrontEndWorkspace {
     explicit FrontEndWorkspace(Partitioning p) : tessellator(p) {}
     D3D11Tessellator tessellator;
     SubdivisionMesh::Stencil stencil;
+    TessellatedPatch neighbour;  // a neighbour's TS output, for stitching shared edges
+    std::vector<std::uint32_t> stitchPoints;
 };
 
 class FrontEnd {
@@ -78,6 +80,10 @@ class FrontEnd {
   private:
     void runHullShader(const SceneObject& object, const PatchInfo& patch,
                        TessellatedPatch& out) const;
+    // HS and TS only.
+    void runTessellator(std::size_t index, TessellatedPatch& out, FrontEndWorkspace& ws) const;
+    // Adds the points neighbouring patches have on shared cage edges (patch_boundary.h).
+    int stitchSharedEdges(TessellatedPatch& out, FrontEndWorkspace& ws) const;
     void runDomainShader(const SceneObject& object, int patchIndex, TessellatedPatch& out,
                          FrontEndWorkspace& ws) const;
     float adaptiveFactor(const Vec3 a[2], const Vec3 b[2]) const;

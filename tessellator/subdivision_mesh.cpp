@@ -12,6 +12,7 @@
 
 #include "pipeline/core/counters.h"
 #include "pipeline/core/error.h"
+#include "tessellator/far_limit_evaluator.h"
 
 namespace patchsim {
 
@@ -21,6 +22,9 @@ PATCHSIM_COUNTER("IA/Patches", "patches",
                  "Tessellation domains made from cage faces (an N-gon is N)", iaPatches);
 PATCHSIM_COUNTER("IA/Cage faces", "faces", "Faces of the control cages read", iaCageFaces);
 PATCHSIM_COUNTER("IA/Hole faces", "faces", "Cage faces tagged as holes (no patch)", iaHoleFaces);
+PATCHSIM_COUNTER("IA/Far-evaluated faces", "faces",
+                 "Cage faces evaluated on Far's patch table instead of Bfr (OpenSubdiv 3.5.0 bug)",
+                 iaFarFaces);
 
 namespace {
 
@@ -70,18 +74,30 @@ osd::Sdc::Options sdcOptions(const Cage& cage) {
 struct SubdivisionMesh::Impl {
     std::unique_ptr<osd::Far::TopologyRefiner> refiner;
     std::unique_ptr<osd::Bfr::RefinerSurfaceFactory<>> factory;
-    std::vector<osd::Bfr::Surface<float>> surfaces;  // one per face; invalid for holes
+    std::vector<osd::Bfr::Surface<float>>
+        surfaces;             // one per face; invalid for holes and Far faces
+    std::vector<char> onFar;  // per face: evaluated by `far`
+    std::unique_ptr<FarLimitEvaluator> far;
+
+    bool hasSurface(std::size_t face) const {
+        return onFar[face] ? far->hasSurface(int(face)) : surfaces[face].IsValid();
+    }
+    osd::Bfr::Parameterization parameterization(int face) const {
+        if (!onFar[std::size_t(face)]) return surfaces[std::size_t(face)].GetParameterization();
+        return osd::Bfr::Parameterization(refiner->GetSchemeType(),
+                                          refiner->GetLevel(0).GetFaceVertices(face).size());
+    }
 };
 
 SubdivisionMesh::SubdivisionMesh(const Cage& cage, SubdivisionScheme scheme,
-                                 const std::string& path)
+                                 const std::string& path, FarFaces farChoice)
     : scheme_(scheme), impl_(std::make_unique<Impl>()) {
     const int regular = scheme == SubdivisionScheme::Loop ? 3 : 4;
     if (scheme == SubdivisionScheme::Loop) {
         for (int f = 0; f < cage.faceCount(); ++f) {
             if (cage.faceSizes[std::size_t(f)] != 3)
                 throw InputError(path, "f",
-                                 "face " + std::to_string(f) + " has " +
+                                 "face " + std::to_string(f + 1) + " has " +
                                      std::to_string(cage.faceSizes[std::size_t(f)]) +
                                      " sides; the Loop scheme needs triangles");
         }
@@ -112,14 +128,14 @@ SubdivisionMesh::SubdivisionMesh(const Cage& cage, SubdivisionScheme scheme,
     desc.numHoles = int(cage.holes.size());
     desc.holeIndices = cage.holes.data();
 
+    using Factory = osd::Far::TopologyRefinerFactory<osd::Far::TopologyDescriptor>;
+    const Factory::Options options(toOsd(scheme), sdcOptions(cage));
     {
         static std::mutex farMutex;  // the error callback is process-wide
         std::lock_guard lock(farMutex);
         farError.clear();
         osd::Far::SetErrorCallback(onFarError);
-        using Factory = osd::Far::TopologyRefinerFactory<osd::Far::TopologyDescriptor>;
-        impl_->refiner.reset(
-            Factory::Create(desc, Factory::Options(toOsd(scheme), sdcOptions(cage))));
+        impl_->refiner.reset(Factory::Create(desc, options));
         osd::Far::SetErrorCallback(nullptr);
         if (!impl_->refiner)
             throw InputError(path, "f",
@@ -127,6 +143,15 @@ SubdivisionMesh::SubdivisionMesh(const Cage& cage, SubdivisionScheme scheme,
                                  (farError.empty() ? "unknown error" : farError));
     }
     const osd::Far::TopologyLevel& level = impl_->refiner->GetLevel(0);
+    impl_->onFar.assign(std::size_t(level.GetNumFaces()), 0);
+    std::vector<int> farFaces;
+    for (int f = 0; f < level.GetNumFaces(); ++f) {
+        if (farChoice != FarFaces::All && !bfrBuilderIsUnsafe(level, f)) continue;
+        impl_->onFar[std::size_t(f)] = 1;
+        farFaces.push_back(f);
+    }
+    if (!farFaces.empty())
+        impl_->far = std::make_unique<FarLimitEvaluator>(desc, options, farFaces);
     edgeVertices_.resize(std::size_t(2 * level.GetNumEdges()));
     for (int e = 0; e < level.GetNumEdges(); ++e) {
         auto v = level.GetEdgeVertices(e);
@@ -148,7 +173,9 @@ SubdivisionMesh::SubdivisionMesh(const Cage& cage, SubdivisionScheme scheme,
     impl_->factory = std::make_unique<osd::Bfr::RefinerSurfaceFactory<>>(*impl_->refiner);
     impl_->surfaces.resize(std::size_t(level.GetNumFaces()));
     for (int f = 0; f < level.GetNumFaces(); ++f)
-        impl_->factory->InitVertexSurface(f, &impl_->surfaces[std::size_t(f)]);
+        if (!impl_->onFar[std::size_t(f)])
+            impl_->factory->InitVertexSurface(f, &impl_->surfaces[std::size_t(f)]);
+    iaFarFaces += std::int64_t(farFaces.size());
     iaCageFaces += level.GetNumFaces();
     buildPatches();
     buildOwners();
@@ -159,7 +186,7 @@ SubdivisionMesh::~SubdivisionMesh() = default;
 void SubdivisionMesh::buildPatches() {
     const int regular = scheme_ == SubdivisionScheme::Loop ? 3 : 4;
     for (std::size_t f = 0; f < faceVertices_.size(); ++f) {
-        if (!impl_->surfaces[f].IsValid()) {  // hole, or no limit surface
+        if (!impl_->hasSurface(f)) {  // hole, or no limit surface
             ++iaHoleFaces;
             continue;
         }
@@ -273,15 +300,27 @@ void SubdivisionMesh::faceCoord(const PatchInfo& patch, float u, float v, float 
         return;
     }
     const float sub[2] = {u, v};
-    impl_->surfaces[std::size_t(patch.face)].GetParameterization().ConvertNormalizedSubFaceToCoord(
-        patch.subface, sub, faceUV);
+    impl_->parameterization(patch.face).ConvertNormalizedSubFaceToCoord(patch.subface, sub, faceUV);
 }
 
 int SubdivisionMesh::controlPointCount(int face) const {
+    if (impl_->onFar[std::size_t(face)]) return impl_->far->controlPointCount(face);
     return impl_->surfaces[std::size_t(face)].GetNumControlPoints();
 }
 
+int SubdivisionMesh::farEvaluatedFaceCount() const {
+    return int(std::count(impl_->onFar.begin(), impl_->onFar.end(), 1));
+}
+
+bool SubdivisionMesh::farEvaluated(int face) const {
+    return impl_->onFar[std::size_t(face)] != 0;
+}
+
 void SubdivisionMesh::evaluateStencil(int face, const float faceUV[2], Stencil& out) const {
+    if (impl_->onFar[std::size_t(face)]) {
+        impl_->far->evaluate(face, faceUV, out);
+        return;
+    }
     const osd::Bfr::Surface<float>& surface = impl_->surfaces[std::size_t(face)];
     const std::size_t n = std::size_t(surface.GetNumControlPoints());
     out.position.resize(n);
@@ -292,10 +331,16 @@ void SubdivisionMesh::evaluateStencil(int face, const float faceUV[2], Stencil& 
     surface.EvaluateStencil(faceUV, out.position.data(), out.du.data(), out.dv.data());
 }
 
-Vec3 SubdivisionMesh::applyStencil(int face, const std::vector<float>& weights,
+Vec3 SubdivisionMesh::applyStencil(int face, const Stencil& stencil,
+                                   const std::vector<float>& weights,
                                    const std::vector<Vec3>& points) const {
     static_assert(sizeof(Vec3) == 3 * sizeof(float));
-    Vec3 result;
+    Vec3 result(0);
+    if (impl_->onFar[std::size_t(face)]) {
+        for (std::size_t k = 0; k < weights.size(); ++k)
+            result += weights[k] * points[std::size_t(stencil.controlPoints[k])];
+        return result;
+    }
     impl_->surfaces[std::size_t(face)].ApplyStencilFromMesh(
         weights.data(), &points.data()->x, osd::Bfr::Surface<float>::PointDescriptor(3), &result.x);
     return result;
@@ -326,20 +371,19 @@ void SubdivisionMesh::ownerOfEdgePoint(int patch, int edge, std::uint32_t s, con
     CageEdgeSpan span;
     if (cageEdgeSpan(patch, edge, span)) {
         const int cageEdge = patches_[std::size_t(patch)].edgeSources[edge].cageEdge;
-        const std::uint32_t canonical = span.sameDirection ? s : 0x10000u - s;
+        const std::uint32_t canonical = span.sameDirection ? s : kCageEdgeOne - s;
         if (segments[edge] > 0) {
             // Integer partitioning: the point is the j-th of the edge's segments; name it by its
             // index on the whole cage edge, so half-edges and whole edges agree exactly.
             const std::uint32_t perSpan = std::uint32_t(segments[edge]);
             const std::uint32_t whole = span.length == kCageEdgeOne ? perSpan : 2 * perSpan;
-            const auto j = std::uint32_t((std::uint64_t(canonical) * perSpan + 0x8000u) >> 16);
+            const auto j = std::uint32_t((std::uint64_t(canonical) * perSpan + kCageEdgeOne / 2) /
+                                         kCageEdgeOne);
             const std::uint32_t k = (span.start == 0 ? 0 : whole / 2) + j;
             ownerOnCageEdge(cageEdge, k, whole, ownerPatch, uv);
             return;
         }
-        const auto w =
-            std::uint32_t(span.start + std::uint64_t(canonical) * span.length / 0x10000u);
-        ownerOnCageEdge(cageEdge, w, kCageEdgeOne, ownerPatch, uv);
+        ownerOnCageEdge(cageEdge, toCageEdge(span, s), kCageEdgeOne, ownerPatch, uv);
         return;
     }
     const PatchInfo& p = patches_[std::size_t(patch)];
@@ -347,11 +391,21 @@ void SubdivisionMesh::ownerOfEdgePoint(int patch, int edge, std::uint32_t s, con
     const auto key = std::minmax(a.value, b.value);
     const EdgeOwner& owner = edgeOwners_.at({key.first, key.second});
     const bool sameAsCanonical = a.value <= b.value;
-    const std::uint32_t canonical = sameAsCanonical ? s : 0x10000u - s;
-    const std::uint32_t ownerS = owner.sameDirection ? canonical : 0x10000u - canonical;
+    const std::uint32_t canonical = sameAsCanonical ? s : kCageEdgeOne - s;
+    const std::uint32_t ownerS = owner.sameDirection ? canonical : kCageEdgeOne - canonical;
     ownerPatch = owner.patch;
     const PatchInfo& o = patches_[std::size_t(owner.patch)];
-    patchEdgePoint(o.domain, owner.edge, float(ownerS) / 65536.0f, uv);
+    patchEdgePoint(o.domain, owner.edge, float(ownerS) / float(kCageEdgeOne), uv);
+}
+
+std::uint32_t SubdivisionMesh::toCageEdge(const CageEdgeSpan& span, std::uint32_t s) {
+    const std::uint32_t along = span.sameDirection ? s : kCageEdgeOne - s;
+    return std::uint32_t(span.start + std::uint64_t(along) * span.length / kCageEdgeOne);
+}
+
+std::uint32_t SubdivisionMesh::fromCageEdge(const CageEdgeSpan& span, std::uint32_t w) {
+    const auto along = std::uint32_t(std::uint64_t(w - span.start) * kCageEdgeOne / span.length);
+    return span.sameDirection ? along : kCageEdgeOne - along;
 }
 
 void SubdivisionMesh::ownerOfCorner(int patch, int corner, const int segments[4], int& ownerPatch,
@@ -363,7 +417,7 @@ void SubdivisionMesh::ownerOfCorner(int patch, int corner, const int segments[4]
         // corner or the start of the one after it.
         const int before = (corner + p.cornerCount() - 1) % p.cornerCount();
         if (p.edgeSources[before].kind == EdgeFactorSource::HalfCageEdge)
-            ownerOfEdgePoint(patch, before, 0x10000u, segments, ownerPatch, uv);
+            ownerOfEdgePoint(patch, before, kCageEdgeOne, segments, ownerPatch, uv);
         else
             ownerOfEdgePoint(patch, corner, 0, segments, ownerPatch, uv);
         return;

@@ -7,7 +7,8 @@
 // Topology is a Far::TopologyRefiner built from the cage (Far::TopologyDescriptor), with creases,
 // corners, holes and boundary interpolation from the OBJ tags. One Bfr::Surface<float> per base
 // face (made with Bfr::RefinerSurfaceFactory when the mesh is built, so evaluation afterwards is
-// const and thread-safe) gives the limit stencils.
+// const and thread-safe) gives the limit stencils; the few faces that OpenSubdiv 3.5.0's Bfr
+// cannot build safely are evaluated on Far's patch table instead (tessellator/far_limit_evaluator).
 //
 // A patch is one tessellation domain. A face of the scheme's regular size (4 for Catmull-Clark and
 // bilinear, 3 for Loop) is one patch. Any other Catmull-Clark face of N sides is N quad
@@ -35,6 +36,7 @@
 
 #include "pipeline/core/obj_reader.h"
 #include "pipeline/core/scene.h"
+#include "tessellator/limit_stencil.h"
 
 namespace patchsim {
 
@@ -74,7 +76,11 @@ class SubdivisionMesh {
   public:
     // Throws InputError (naming `path`) when OpenSubdiv rejects the topology or the scheme
     // does not fit the faces (Loop needs triangles).
-    SubdivisionMesh(const Cage& cage, SubdivisionScheme scheme, const std::string& path);
+    // Which faces Far's patch table evaluates: only those Bfr 3.5.0 cannot build (the default), or
+    // every face (an independent evaluation of the same surface, for tests).
+    enum class FarFaces : std::uint8_t { OnlyUnsafeForBfr, All };
+    SubdivisionMesh(const Cage& cage, SubdivisionScheme scheme, const std::string& path,
+                    FarFaces farFaces = FarFaces::OnlyUnsafeForBfr);
     ~SubdivisionMesh();
     SubdivisionMesh(const SubdivisionMesh&) = delete;
     SubdivisionMesh& operator=(const SubdivisionMesh&) = delete;
@@ -98,18 +104,18 @@ class SubdivisionMesh {
     // Face-level (u,v) of the Bfr parameterization for a patch-local domain point.
     void faceCoord(const PatchInfo& patch, float u, float v, float faceUV[2]) const;
 
-    struct Stencil {
-        std::vector<float> position, du, dv;  // weights per surface control point
-        std::vector<int> controlPoints;       // mesh vertex of each weight
-    };
+    using Stencil = LimitStencil;
     // Limit stencil of a face at face-level (u,v); reuses the buffers in `out`.
     void evaluateStencil(int face, const float faceUV[2], Stencil& out) const;
-    // Applies one weight set of a stencil to a control-point set (Bfr ApplyStencilFromMesh).
-    Vec3 applyStencil(int face, const std::vector<float>& weights,
+    // Applies one weight set of `stencil` (its position, du or dv) to a control-point set.
+    Vec3 applyStencil(int face, const Stencil& stencil, const std::vector<float>& weights,
                       const std::vector<Vec3>& points) const;
+    // Faces evaluated on Far's patch table (see far_limit_evaluator.h), for reports and tests.
+    int farEvaluatedFaceCount() const;
+    bool farEvaluated(int face) const;
 
-    // The owner of a point on patch `patch`'s local edge `edge` at local parameter `s` (16.16
-    // fixed point, from the edge's start corner): patch index and that patch's local (u,v).
+    // The owner of a point on patch `patch`'s local edge `edge` at local parameter `s` (units of
+    // 2^-17, from the edge's start corner): patch index and that patch's local (u,v).
     // `segments[e]` is the integer segment count of each patch edge under integer or pow2
     // partitioning (points then sit at k/N and are named by k), or 0 for fractional modes (points
     // are named by their fixed-point parameter).
@@ -117,6 +123,25 @@ class SubdivisionMesh {
                           int& ownerPatch, float uv[2]) const;
     void ownerOfCorner(int patch, int corner, const int segments[4], int& ownerPatch,
                        float uv[2]) const;
+
+    // A patch edge that lies on a cage edge covers [start, start + length] of the cage edge's
+    // canonical parameter (from its lower-numbered vertex), in units of 2^-17.
+    struct CageEdgeSpan {
+        int patch;
+        int edge;
+        std::uint32_t start;
+        std::uint32_t length;
+        bool sameDirection;  // the patch edge runs in the canonical direction
+    };
+    // False for an edge inside an N-gon (between two of its sub-patches).
+    bool cageEdgeSpan(int patch, int edge, CageEdgeSpan& span) const;
+    // Every patch edge on a cage edge, by increasing patch index.
+    const std::vector<CageEdgeSpan>& spansOnCageEdge(int cageEdge) const {
+        return cageEdgeSpans_[std::size_t(cageEdge)];
+    }
+    // A patch-edge parameter (units of 2^-17) as a cage-edge parameter, and back.
+    static std::uint32_t toCageEdge(const CageEdgeSpan& span, std::uint32_t s);
+    static std::uint32_t fromCageEdge(const CageEdgeSpan& span, std::uint32_t w);
 
     SubdivisionScheme scheme() const { return scheme_; }
 
@@ -133,16 +158,6 @@ class SubdivisionMesh {
     std::vector<std::vector<int>> faceVertices_;
     std::vector<std::vector<int>> faceEdges_;
 
-    // A patch edge that lies on a cage edge covers [start, start + length] of the cage edge's
-    // canonical parameter (from its lower-numbered vertex), in units of 2^-17.
-    struct CageEdgeSpan {
-        int patch;
-        int edge;
-        std::uint32_t start;
-        std::uint32_t length;
-        bool sameDirection;  // the patch edge runs in the canonical direction
-    };
-    bool cageEdgeSpan(int patch, int edge, CageEdgeSpan& span) const;
     struct EdgeOwner {
         int patch;
         int edge;

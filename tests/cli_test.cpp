@@ -127,8 +127,10 @@ TEST(Cli, BadInputFailsCleanly) {
 }
 
 TEST(Cli, InfoAndTessellateEveryRegressionCage) {
-    const auto cages = patchsim::test::sharedModelFiles();
-    if (cages.empty()) GTEST_SKIP() << "shared cages missing";
+    auto cages = patchsim::test::sharedModelFiles();
+    ASSERT_FALSE(cages.empty()) << "shared cages missing";
+    for (const auto& entry : fs::directory_iterator(sourcePath("scenes/cages")))
+        if (entry.path().extension() == ".obj") cages.push_back(entry.path().string());
     const std::string out = patchsim::test::temporaryDirectory() + "/cage.obj";
     for (const std::string& cage : cages) {
         CommandResult r = run("info " + cage);
@@ -139,6 +141,20 @@ TEST(Cli, InfoAndTessellateEveryRegressionCage) {
         EXPECT_TRUE(fs::exists(out)) << cage;
         fs::remove(out);
     }
+}
+
+// OpenSubdiv 3.5.0's Bfr reads uninitialised memory on this cage and may crash; patchsim evaluates
+// the affected faces on Far's patch table and says so.
+TEST(Cli, RendersTheCageThatCrashesBfr350) {
+    const std::string dir = patchsim::test::temporaryDirectory() + "/val2";
+    const std::string cage = sourcePath("scenes/cages/catmark_val2_interior.obj");
+    CommandResult r = run("info " + cage);
+    EXPECT_EQ(r.exitCode, 0) << r.output;
+    EXPECT_NE(r.output.find("8 faces evaluated on Far's patch table"), std::string::npos)
+        << r.output;
+    r = run("render -q --no-progress " + cage + " -o " + dir);
+    EXPECT_EQ(r.exitCode, 0) << r.output;
+    EXPECT_TRUE(fs::exists(dir + "/image.exr"));
 }
 
 TEST(Cli, RenderWritesImagesAndStats) {

@@ -91,8 +91,17 @@ TEST(ObjReader, ErrorsNameFileLineAndColumn) {
 TEST(ObjReader, RejectsEmptyAndBrokenMeshes) {
     EXPECT_NE(errorOf("").find("no vertices"), std::string::npos);
     EXPECT_NE(errorOf("v 0 0 0\n").find("no faces"), std::string::npos);
-    EXPECT_NE(errorOf("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 2\n").find("repeats vertex"),
-              std::string::npos);
+}
+
+TEST(ObjReader, FacesThatRepeatAVertexAreDegenerateEdgesAsInOpenSubdiv) {
+    // OpenSubdiv's non-manifold quad poles (catmark_nonman_quadpole*) have such faces; faces and
+    // vertices are counted from 1, as OBJ does.
+    const Cage cage =
+        parseObjCage("v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nf 1 2 4 3\nf 3 4 4\n", "pole.obj");
+    ASSERT_EQ(cage.faceCount(), 2);
+    ASSERT_FALSE(cage.warnings.empty());
+    EXPECT_NE(cage.warnings[0].find("line 6: face 2 repeats vertex 4"), std::string::npos)
+        << cage.warnings[0];
 }
 
 TEST(ObjReader, NonManifoldEdgesAreAcceptedWithAWarning) {
@@ -100,7 +109,8 @@ TEST(ObjReader, NonManifoldEdgesAreAcceptedWithAWarning) {
     const Cage cage =
         parseObjCage("v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 -1 0\nf 1 2 3\nf 1 2 4\n", "c.obj");
     ASSERT_EQ(cage.warnings.size(), 1u);
-    EXPECT_NE(cage.warnings[0].find("non-manifold edge 1-2"), std::string::npos);
+    EXPECT_NE(cage.warnings[0].find("non-manifold edge 1-2 (faces 1 and 2"), std::string::npos)
+        << cage.warnings[0];
 }
 
 }  // namespace

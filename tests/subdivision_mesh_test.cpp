@@ -23,7 +23,7 @@ Vec3 evaluateLimit(const SubdivisionMesh& mesh, const std::vector<Vec3>& points,
     SubdivisionMesh::Stencil stencil;
     const float uv[2] = {u, v};
     mesh.evaluateStencil(face, uv, stencil);
-    return mesh.applyStencil(face, stencil.position, points);
+    return mesh.applyStencil(face, stencil, stencil.position, points);
 }
 
 // An independent evaluator: Far's feature-adaptive patch table and PatchMap.

@@ -218,7 +218,7 @@ class ObjParser {
     // reported as a warning, once per cage.
     void validateTopology() {
         std::map<std::pair<int, int>, int> directedEdges;
-        bool warnedNonManifold = false;
+        bool warnedNonManifold = false, warnedDegenerate = false;
         std::size_t offset = 0;
         for (std::size_t f = 0; f < cage_.faceSizes.size(); ++f) {
             const int n = cage_.faceSizes[f];
@@ -226,16 +226,23 @@ class ObjParser {
             for (int i = 0; i < n; ++i) {
                 const int a = cage_.faceVertices[offset + std::size_t(i)];
                 const int b = cage_.faceVertices[offset + std::size_t((i + 1) % n)];
-                if (a == b)
-                    fail(1, "face " + std::to_string(f) + " repeats vertex " +
-                                std::to_string(a + 1) + " (zero-length edge)");
+                if (a == b) {
+                    if (!warnedDegenerate) {
+                        warnedDegenerate = true;
+                        cage_.warnings.push_back(
+                            path_ + ": line " + std::to_string(line_) + ": face " +
+                            std::to_string(f + 1) + " repeats vertex " + std::to_string(a + 1) +
+                            " (a degenerate edge, evaluated as OpenSubdiv does)");
+                    }
+                    continue;
+                }
                 auto [it, inserted] = directedEdges.emplace(std::make_pair(a, b), int(f));
                 if (!inserted && !warnedNonManifold) {
                     warnedNonManifold = true;
                     cage_.warnings.push_back(
                         path_ + ": line " + std::to_string(line_) + ": non-manifold edge " +
                         std::to_string(a + 1) + "-" + std::to_string(b + 1) + " (faces " +
-                        std::to_string(it->second) + " and " + std::to_string(f) +
+                        std::to_string(it->second + 1) + " and " + std::to_string(f + 1) +
                         " use it in the same direction); OpenSubdiv treats it as sharp");
                 }
             }

@@ -46,6 +46,10 @@ void printSceneInfo(std::ostream& out, const FrontEnd& frontEnd, const SceneInfo
             << ", " << o.cage.vertexCount() << " vertices, " << o.cage.faceCount() << " faces, "
             << o.mesh->patches().size() << " patches)\n";
         for (const std::string& w : o.cage.warnings) out << "    warning: " << w << "\n";
+        if (const int far = o.mesh->farEvaluatedFaceCount())
+            out << "    note: " << far
+                << " faces evaluated on Far's patch table (OpenSubdiv 3.5.0's Bfr cannot build "
+                   "them safely)\n";
     }
     out << "film:          " << scene.film.width << "x" << scene.film.height << ", "
         << scene.film.samplesPerPixel << " spp, seed " << scene.film.seed << "\n"
