@@ -40,9 +40,8 @@ SurfaceAttributes interpolateAttributes(const ShadingContext& c, const Visibilit
 Vec3 shadeFragment(const ShadingContext& c, const SurfaceAttributes& a, float time) {
     ++psInvocations;
     if (a.unlit) return a.color;
-    // Normal to camera space (the view at the nearer shutter end), turned towards the eye.
-    const ShutterEnd end = time < 0.5f ? ShutterEnd::Open : ShutterEnd::Close;
-    Vec3 n = Vec3(c.camera->worldToCamera(end) * Vec4(a.normal, 0.0f));
+    // Normal to camera space with the camera of the fragment's time, turned towards the eye.
+    Vec3 n = Vec3(c.camera->worldToCameraAt(time) * Vec4(a.normal, 0.0f));
     const float len = glm::length(n);
     n = len > 0 && std::isfinite(len) ? n / len : Vec3(0, 0, 1);
     if (n.z < 0) n = -n;

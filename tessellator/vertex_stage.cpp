@@ -1,5 +1,8 @@
 #include "tessellator/vertex_stage.h"
 
+#include <algorithm>
+#include <limits>
+
 #include "pipeline/core/counters.h"
 
 namespace patchsim {
@@ -7,24 +10,50 @@ namespace patchsim {
 PATCHSIM_COUNTER("VS/Control points", "points",
                  "Cage control points transformed (both shutter ends count once)", vsControlPoints);
 
+namespace {
+
+// Keyframe positions that differ from the open ones by rounding only (relative to the cage's size).
+constexpr float kReturnTolerance = 1e-5f;
+
+bool returnsToStart(const std::vector<Vec3>& key0, const std::vector<Vec3>& key1) {
+    Vec3 lo(std::numeric_limits<float>::max()), hi(-std::numeric_limits<float>::max());
+    float moved = 0;
+    for (std::size_t i = 0; i < key0.size(); ++i) {
+        lo = glm::min(lo, key0[i]);
+        hi = glm::max(hi, key0[i]);
+        moved = std::max(moved, glm::length(key1[i] - key0[i]));
+    }
+    return moved > 0 && moved <= kReturnTolerance * glm::length(hi - lo);
+}
+
+}  // namespace
+
 ControlPoints runVertexStage(const ObjectDesc& object, const Cage& cage, const Cage* closeCage,
                              const ShutterDesc& shutter) {
     const Mat4 keyMatrix[2] = {object.open.matrix(), object.close.matrix()};
     const std::vector<Vec3>& keyPositions0 = cage.positions;
     const std::vector<Vec3>& keyPositions1 = closeCage ? closeCage->positions : cage.positions;
-    const float shutterTime[2] = {shutter.open, shutter.close};
-    ControlPoints out;
-    for (int end = 0; end < 2; ++end) out.at[end].resize(cage.positions.size());
     const bool keysEqual = keyMatrix[0] == keyMatrix[1] && closeCage == nullptr;
+    std::vector<Vec3> key[2];
+    for (int k = 0; k < 2; ++k) key[k].resize(cage.positions.size());
     for (std::size_t i = 0; i < cage.positions.size(); ++i) {
-        const Vec3 key0 = Vec3(keyMatrix[0] * Vec4(keyPositions0[i], 1.0f));
-        const Vec3 key1 = keysEqual ? key0 : Vec3(keyMatrix[1] * Vec4(keyPositions1[i], 1.0f));
-        for (int end = 0; end < 2; ++end) {
-            const float t = shutterTime[end];
+        key[0][i] = Vec3(keyMatrix[0] * Vec4(keyPositions0[i], 1.0f));
+        key[1][i] = keysEqual ? key[0][i] : Vec3(keyMatrix[1] * Vec4(keyPositions1[i], 1.0f));
+    }
+    ControlPoints out;
+    if (!keysEqual && returnsToStart(key[0], key[1])) {
+        out.keyframesReturnToStart = true;
+        key[1] = key[0];
+    }
+    const float shutterTime[2] = {shutter.open, shutter.close};
+    for (int end = 0; end < 2; ++end) {
+        out.at[end].resize(cage.positions.size());
+        const float t = shutterTime[end];
+        for (std::size_t i = 0; i < cage.positions.size(); ++i) {
+            const Vec3& a = key[0][i];
+            const Vec3& b = key[1][i];
             // Exact at the keyframes and for points that do not move, so static is bitwise static.
-            out.at[end][i] = (t == 0.0f || key0 == key1) ? key0
-                             : t == 1.0f                 ? key1
-                                                         : lerp(key0, key1, t);
+            out.at[end][i] = (t == 0.0f || a == b) ? a : t == 1.0f ? b : lerp(a, b, t);
         }
     }
     vsControlPoints += std::int64_t(cage.positions.size());

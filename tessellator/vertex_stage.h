@@ -14,6 +14,10 @@ namespace patchsim {
 
 struct ControlPoints {
     std::vector<Vec3> at[2];  // indexed by ShutterEnd
+    // The keyframes differ but put every control point back where it started (a 360-degree
+    // turn): with straight-line motion between the shutter ends that is no motion, and the close
+    // positions are made exactly the open ones.
+    bool keyframesReturnToStart = false;
     bool moves() const { return at[0] != at[1]; }
 };
 

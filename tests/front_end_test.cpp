@@ -287,6 +287,20 @@ TEST(FrontEnd, EffectsOfEveryShippedScene) {
     }
 }
 
+// A full turn puts every control point back: with straight-line motion that is no motion, and the
+// simulator says so instead of blurring by rounding noise.
+TEST(FrontEnd, AFullTurnIsNoMotionAndIsReported) {
+    SceneDesc scene = readSceneFile(test::sourcePath("scenes/static.json"));
+    scene.objects[0].close.rotateDegrees = scene.objects[0].open.rotateDegrees + Vec3(0, 360, 0);
+    const FrontEnd fe(scene);
+    EXPECT_TRUE(fe.objects()[0].points.keyframesReturnToStart);
+    EXPECT_FALSE(fe.geometryMoves());
+    scene.objects[0].close.rotateDegrees = scene.objects[0].open.rotateDegrees + Vec3(0, 90, 0);
+    const FrontEnd turning(scene);
+    EXPECT_FALSE(turning.objects()[0].points.keyframesReturnToStart);
+    EXPECT_TRUE(turning.geometryMoves());
+}
+
 TEST(FrontEnd, ClosedShutterMeansNoMotion) {
     SceneDesc scene = readSceneFile(test::sourcePath("scenes/motion.json"));
     scene.shutter = {0.5f, 0.5f};

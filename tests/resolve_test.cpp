@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <fstream>
+#include <glm/gtc/matrix_transform.hpp>
 
 #include "backend/image.h"
 #include "pipeline/core/counters.h"
@@ -155,6 +156,65 @@ TEST(Resolve, PerPixelPrimitiveShadingReusesColours) {
     EXPECT_GT(perPixel.at("PS/Reused"), 0);
     EXPECT_EQ(perPixel.at("PS/Invocations") + perPixel.at("PS/Reused"),
               perFragment.at("PS/Invocations"));
+}
+
+// Nothing moves but the material changes over the shutter: samples need times, and each pixel is
+// the material averaged over the shutter (stratified times: within a stratum's worth).
+TEST(Resolve, MaterialThatChangesOverTheShutterInAStillScene) {
+    SceneDesc scene = quadScene();
+    scene.film.samplesPerPixel = 16;
+    MaterialDesc& m = scene.objects[0].material;
+    m.color = {1, 0, 0};
+    m.closeColor = {0, 0, 1};
+    const RenderResult colour = renderScene(scene, {});
+    EXPECT_FALSE(colour.effects.motion);
+    EXPECT_TRUE(colour.effects.shadingVaries);
+    EXPECT_NE(describeMode(colour.effects).find("shading over time"), std::string::npos);
+    for (int y = 0; y < 16; ++y)
+        for (int x = 0; x < 24; ++x) {
+            EXPECT_NEAR(colour.frame.color.get(x, y).x, 0.5f, 1.0f / 16);
+            EXPECT_NEAR(colour.frame.color.get(x, y).z, 0.5f, 1.0f / 16);
+        }
+    // Opacity falling from 1 to 0.1: on average 0.55 of the colour over the background.
+    m.color = m.closeColor = {1, 1, 1};
+    m.closeOpacity = 0.1f;
+    const RenderResult fading = renderScene(scene, {});
+    EXPECT_TRUE(fading.effects.transparency);
+    const float expected = 0.55f * 1.0f + 0.45f * kBackground.x;
+    for (int y = 0; y < 16; ++y)
+        for (int x = 0; x < 24; ++x) EXPECT_NEAR(fading.frame.color.get(x, y).x, expected, 0.06f);
+    // Switched off with the rest of the shutter's time: the material at shutter open.
+    RenderOptions still;
+    still.overrides.disableMotion = true;
+    const RenderResult off = renderScene(scene, still);
+    EXPECT_FALSE(off.effects.timeSamples());
+    EXPECT_NEAR(off.frame.color.get(3, 3).x, 1.0f, 1e-6f);
+}
+
+// A lit surface under a camera that swings round it is shaded with the camera of each sample's
+// time, not with the nearer shutter end's.
+TEST(Resolve, ShadingUsesTheCameraAtTheSampleTime) {
+    SceneDesc scene = quadScene();
+    scene.camera.close = {{5, 0, 0.5f}, {0, 0, 0}, {0, 1, 0}};
+    scene.objects[0].material.unlit = false;
+    const FrontEnd fe(scene);
+    const Camera& camera = fe.camera();
+    SurfaceAttributes a;
+    a.normal = {0, 0, 1};
+    a.color = {1, 1, 1};
+    a.surfaceUV = {0.01f, 0.01f};
+    const ShadingContext context{&fe, nullptr, nullptr, &camera, nullptr};
+    const float t = 0.3f;
+    const CameraKey k{lerp(scene.camera.open.position, scene.camera.close.position, t),
+                      lerp(scene.camera.open.lookAt, scene.camera.close.lookAt, t),
+                      {0, 1, 0}};
+    const Mat4 view = glm::lookAt(k.position, k.lookAt, k.up);
+    EXPECT_LT(std::abs(camera.worldToCameraAt(t)[0][0] - view[0][0]), 1e-6f);
+    Vec3 n = glm::normalize(Vec3(view * Vec4(a.normal, 0.0f)));
+    if (n.z < 0) n = -n;
+    const float lambert = std::max(0.0f, glm::dot(n, glm::normalize(Vec3(0.4f, 0.6f, 0.7f))));
+    EXPECT_NEAR(shadeFragment(context, a, t).x, 0.15f + 0.85f * lambert, 1e-5f);
+    EXPECT_GT(std::abs(shadeFragment(context, a, t).x - shadeFragment(context, a, 0.0f).x), 0.01f);
 }
 
 TEST(Resolve, ExrCarriesNamedAovChannels) {

@@ -160,6 +160,7 @@ int runRender(const RenderCommand& r) {
         r.hardware.empty() ? defaultHardwareConfig() : readHardwareConfig(r.hardware);
     CounterRegistry::instance().reset();
     const RenderResult result = renderScene(scene, options);
+    for (const std::string& note : result.notes) std::cerr << "patchsim: " << note << "\n";
     const TimingReport timing = simulateTiming(result.patchOps, hardware);
     const CounterValues counters = CounterRegistry::instance().snapshot();
     std::filesystem::create_directories(r.outputDir);

@@ -18,11 +18,18 @@ Camera::Camera(const CameraDesc& desc, const ShutterDesc& shutter, int width, in
       far_(desc.farPlane),
       width_(width),
       height_(height) {
-    const CameraKey keys[2] = {blend(desc.open, desc.close, shutter.open),
-                               blend(desc.open, desc.close, shutter.close)};
+    keys_[0] = blend(desc.open, desc.close, shutter.open);
+    keys_[1] = blend(desc.open, desc.close, shutter.close);
     for (int i = 0; i < 2; ++i)
-        view_[i] = glm::lookAt(keys[i].position, keys[i].lookAt, keys[i].up);
+        view_[i] = glm::lookAt(keys_[i].position, keys_[i].lookAt, keys_[i].up);
     moves_ = view_[0] != view_[1];
+}
+
+Mat4 Camera::worldToCameraAt(float t) const {
+    if (!moves_ || t <= 0.0f) return view_[0];
+    if (t >= 1.0f) return view_[1];
+    const CameraKey k = blend(keys_[0], keys_[1], t);
+    return glm::lookAt(k.position, k.lookAt, k.up);
 }
 
 bool Camera::cameraToRaster(const Vec3& p, Vec2& raster) const {

@@ -19,6 +19,9 @@ class Camera {
     Camera(const CameraDesc& desc, const ShutterDesc& shutter, int width, int height);
 
     const Mat4& worldToCamera(ShutterEnd end) const { return view_[int(end)]; }
+    // The camera at shutter time t (its keyframes blended, as the scene describes its motion),
+    // e.g. to shade a t-fragment with the view it was seen from.
+    Mat4 worldToCameraAt(float t) const;
     Vec3 toCamera(const Vec3& world, ShutterEnd end) const {
         return Vec3(view_[int(end)] * Vec4(world, 1.0f));
     }
@@ -35,6 +38,7 @@ class Camera {
 
   private:
     Mat4 view_[2];
+    CameraKey keys_[2];  // at shutter open and close
     float tanHalfFovY_;
     float aspect_;
     float near_, far_;

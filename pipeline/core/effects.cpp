@@ -4,24 +4,30 @@ namespace patchsim {
 
 Effects detectEffects(const SceneDesc& scene, bool geometryMoves, bool cameraMoves) {
     Effects e;
-    e.motion = (geometryMoves || cameraMoves) && scene.shutter.close > scene.shutter.open;
+    const bool shutterOpens = scene.shutter.close > scene.shutter.open;
+    e.motion = (geometryMoves || cameraMoves) && shutterOpens;
     e.defocus = scene.lens.apertureRadius > 0.0f;
-    for (const ObjectDesc& o : scene.objects)
-        e.transparency =
-            e.transparency || o.material.opacity < 1.0f || o.material.closeOpacity < 1.0f;
+    for (const ObjectDesc& o : scene.objects) {
+        const MaterialDesc& m = o.material;
+        e.transparency = e.transparency || m.opacity < 1.0f || m.closeOpacity < 1.0f;
+        e.shadingVaries =
+            e.shadingVaries || (shutterOpens && (m.color != m.closeColor || m.opacity != m.closeOpacity));
+    }
     return e;
 }
 
 Effects applyOverrides(Effects e, const EffectOverrides& o) {
-    if (o.disableMotion) e.motion = false;
+    if (o.disableMotion) e.motion = e.shadingVaries = false;
     if (o.disableDefocus) e.defocus = false;
     if (o.disableTransparency) e.transparency = false;
     return e;
 }
 
 std::string describeMode(const Effects& e) {
-    std::string mode = e.motion ? "motion (moving boxes, time intervals, t per sample)"
-                                : "static (static boxes, no time intervals, no t in samples)";
+    std::string mode = e.motion          ? "motion (moving boxes, time intervals, t per sample)"
+                       : e.shadingVaries ? "static geometry (static boxes, no time intervals), "
+                                           "shading over time (t per sample)"
+                                         : "static (static boxes, no time intervals, no t in samples)";
     mode += e.defocus ? "; defocus (lens u,v per sample, two planes per tile side)"
                       : "; pinhole (no lens samples, four side planes)";
     mode += e.transparency ? "; transparency (every hit kept, sorted and blended)"

@@ -1,8 +1,10 @@
 #pragma once
 // Which effects a scene calls for (SPEC section 7), and the simulation mode chosen from them.
-// Motion: any control point or the camera moves during the shutter. Defocus: aperture > 0.
-// Transparency: any opacity < 1. A study can switch an effect off; it is then not simulated even
-// where the scene calls for it.
+// Motion: any control point or the camera moves during the shutter. Shading over time: a
+// material's colour or opacity changes during the shutter (samples then need a time even when
+// nothing moves). Defocus: aperture > 0. Transparency: any opacity < 1. A study can switch an
+// effect off; it is then not simulated even where the scene calls for it (`--no-motion` switches
+// off everything that varies over the shutter).
 
 #include <string>
 
@@ -11,9 +13,13 @@
 namespace patchsim {
 
 struct Effects {
-    bool motion = false;
+    bool motion = false;         // geometry or camera: moving boxes and time intervals
+    bool shadingVaries = false;  // a material changes over the shutter
     bool defocus = false;
     bool transparency = false;
+
+    // Samples carry a time when anything varies over the shutter.
+    bool timeSamples() const { return motion || shadingVaries; }
 };
 
 struct EffectOverrides {

@@ -86,7 +86,7 @@ Sample SampleGenerator::sample(int x, int y, int index) const {
     }
     // Grid times and lens coordinates reach both ends of [0, 1].
     const float spread = grid ? float(std::max<std::uint32_t>(n - 1, 1)) : float(n);
-    s.time = effects_.motion ? (stratum(6) + jitter(7)) / spread : 0.0f;
+    s.time = effects_.timeSamples() ? (stratum(6) + jitter(7)) / spread : 0.0f;
     s.lens = effects_.defocus
                  ? Vec2((stratum(8) + jitter(9)) / spread, (stratum(10) + jitter(11)) / spread)
                  : Vec2(0.5f, 0.5f);

@@ -7,6 +7,7 @@
 #include "pipeline/core/error.h"
 #include "pipeline/core/parallel.h"
 #include "pipeline/driver/progress.h"
+#include "pipeline/driver/scene_info.h"
 #include "rasterizer/reference_rasterizer.h"
 #include "tessellator/front_end.h"
 
@@ -134,6 +135,8 @@ RenderResult renderScene(const SceneDesc& scene, const RenderOptions& options) {
     result.effects =
         applyOverrides(detectEffects(scene, frontEnd.geometryMoves(), frontEnd.camera().moves()),
                        options.overrides);
+    for (const SceneObject& object : frontEnd.objects())
+        for (const std::string& note : objectNotes(object)) result.notes.push_back(note);
     const Camera& camera = frontEnd.camera();
     const std::size_t count = frontEnd.patchCount();
     std::vector<TessellatedPatch> patches(count);

@@ -36,6 +36,7 @@ struct RenderOptions {
 
 struct RenderResult {
     ResolvedFrame frame;
+    std::vector<std::string> notes;  // per object (scene_info.h objectNotes)
     Effects effects;
     std::size_t patches = 0;
     std::size_t triangles = 0;

@@ -36,6 +36,22 @@ SceneInfo gatherSceneInfo(const FrontEnd& frontEnd, const EffectOverrides& overr
     return info;
 }
 
+std::vector<std::string> objectNotes(const SceneObject& o) {
+    std::vector<std::string> notes;
+    for (const std::string& w : o.cage.warnings) notes.push_back("warning: " + w);
+    if (const int far = o.mesh->farEvaluatedFaceCount())
+        notes.push_back("note: " + std::to_string(far) +
+                        " faces evaluated on Far's patch table (OpenSubdiv 3.5.0's Bfr cannot "
+                        "build them safely)");
+    if (o.points.keyframesReturnToStart)
+        notes.push_back(
+            "note: " + o.desc.name +
+            "'s keyframes put every control point back where it started (e.g. a 360-degree "
+            "turn); control points move in straight lines between shutter open and close, so it "
+            "does not move");
+    return notes;
+}
+
 void printSceneInfo(std::ostream& out, const FrontEnd& frontEnd, const SceneInfo& info) {
     const SceneDesc& scene = frontEnd.scene();
     const auto yesNo = [](bool b) { return b ? "yes" : "no"; };
@@ -45,11 +61,7 @@ void printSceneInfo(std::ostream& out, const FrontEnd& frontEnd, const SceneInfo
         out << "  " << o.desc.name << ": " << o.desc.cagePath << " (" << schemeName(o.desc.scheme)
             << ", " << o.cage.vertexCount() << " vertices, " << o.cage.faceCount() << " faces, "
             << o.mesh->patches().size() << " patches)\n";
-        for (const std::string& w : o.cage.warnings) out << "    warning: " << w << "\n";
-        if (const int far = o.mesh->farEvaluatedFaceCount())
-            out << "    note: " << far
-                << " faces evaluated on Far's patch table (OpenSubdiv 3.5.0's Bfr cannot build "
-                   "them safely)\n";
+        for (const std::string& note : objectNotes(o)) out << "    " << note << "\n";
     }
     out << "film:          " << scene.film.width << "x" << scene.film.height << ", "
         << scene.film.samplesPerPixel << " spp, seed " << scene.film.seed << "\n"
@@ -63,15 +75,15 @@ void printSceneInfo(std::ostream& out, const FrontEnd& frontEnd, const SceneInfo
         << "cage faces:    " << info.cageFaces << "\n"
         << "patches:       " << info.patches << " (" << info.culledPatches << " culled)\n"
         << "domain points: " << info.domainPoints << "\n"
-        << "triangles:     " << info.triangles << "\n"
-        << "motion:        " << yesNo(info.called.motion)
-        << (info.called.motion && !info.simulated.motion ? " (switched off)" : "") << "\n"
-        << "defocus:       " << yesNo(info.called.defocus)
-        << (info.called.defocus && !info.simulated.defocus ? " (switched off)" : "") << "\n"
-        << "transparency:  " << yesNo(info.called.transparency)
-        << (info.called.transparency && !info.simulated.transparency ? " (switched off)" : "")
-        << "\n"
-        << "mode:          " << describeMode(info.simulated) << "\n";
+        << "triangles:     " << info.triangles << "\n";
+    const auto effect = [&](const char* label, bool called, bool simulated) {
+        out << label << yesNo(called) << (called && !simulated ? " (switched off)" : "") << "\n";
+    };
+    effect("motion:        ", info.called.motion, info.simulated.motion);
+    effect("shading time:  ", info.called.shadingVaries, info.simulated.shadingVaries);
+    effect("defocus:       ", info.called.defocus, info.simulated.defocus);
+    effect("transparency:  ", info.called.transparency, info.simulated.transparency);
+    out << "mode:          " << describeMode(info.simulated) << "\n";
 }
 
 }  // namespace patchsim

@@ -3,6 +3,8 @@
 
 #include <cstdint>
 #include <ostream>
+#include <string>
+#include <vector>
 
 #include "pipeline/core/effects.h"
 #include "tessellator/front_end.h"
@@ -23,5 +25,9 @@ struct SceneInfo {
 // Runs HS and TS over every patch (no DS) to count points and triangles at the scene's factors.
 SceneInfo gatherSceneInfo(const FrontEnd& frontEnd, const EffectOverrides& overrides, int threads);
 void printSceneInfo(std::ostream& out, const FrontEnd& frontEnd, const SceneInfo& info);
+
+// What a user should know about how an object is simulated: cage warnings, faces evaluated on
+// Far's patch table, keyframes that return to the start. `info` lists them; `render` prints them.
+std::vector<std::string> objectNotes(const SceneObject& object);
 
 }  // namespace patchsim
