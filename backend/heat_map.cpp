@@ -86,7 +86,8 @@ void writeHeatMap(const HeatMapGrid& grid, const std::string& path) {
     std::filesystem::rename(temporary, path);
 }
 
-std::vector<std::string> writeHeatMaps(const PixelWork& work, const std::string& dir) {
+std::vector<std::string> writeHeatMaps(const PixelWork& work, const std::string& dir,
+                                       OutputSet& outputs) {
     struct Quantity {
         const char* file;
         const char* title;
@@ -125,14 +126,14 @@ std::vector<std::string> writeHeatMaps(const PixelWork& work, const std::string&
         for (const auto* grid : {&pixel, &tile}) {
             const std::string path =
                 dir + "/heat_" + q.file + (grid == &pixel ? "_pixel.png" : "_tile.png");
-            writeHeatMap(*grid, path);
+            writeHeatMap(*grid, outputs.file(path, "--heatmaps"));
             written.push_back(path);
         }
     }
     HeatMapGrid tiles{"tile tests per tile", tx, ty, work.tileSize, {}};
     for (std::uint32_t v : work.tileTests) tiles.values.push_back(float(v));
     const std::string path = dir + "/heat_tile_tests_tile.png";
-    writeHeatMap(tiles, path);
+    writeHeatMap(tiles, outputs.file(path, "--heatmaps"));
     written.push_back(path);
     return written;
 }

@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "pipeline/core/output_set.h"
 #include "rasterizer/pixel_work.h"
 
 namespace patchsim {
@@ -28,6 +29,8 @@ void writeHeatMap(const HeatMapGrid& grid, const std::string& path);
 // Every heat map of a frame's work into `dir`: heat_<quantity>_pixel.png and _tile.png for
 // samples tested, rays cast, ray-box tests, ray-triangle tests, STE and tile tests.
 // Returns the files written.
-std::vector<std::string> writeHeatMaps(const PixelWork& work, const std::string& dir);
+// Files go through `outputs` (written when it commits).
+std::vector<std::string> writeHeatMaps(const PixelWork& work, const std::string& dir,
+                                       OutputSet& outputs);
 
 }  // namespace patchsim

@@ -4,7 +4,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <filesystem>
 
 #include "pipeline/core/error.h"
 
@@ -12,18 +11,14 @@ namespace patchsim {
 
 namespace {
 
-void writeImage(const std::string& path, const std::string& temporary, OIIO::ImageSpec spec,
-                const void* pixels) {
+// Writes `path` (format from its extension); callers stage it through an OutputSet.
+void writeImage(const std::string& path, OIIO::ImageSpec spec, const void* pixels) {
     // No capture date: the same frame must give the same file, byte for byte.
     spec.attribute("DateTime", "");
-    auto out = OIIO::ImageOutput::create(path);  // format from the final name's extension
+    auto out = OIIO::ImageOutput::create(path);
     if (!out) throw InputError(path, "", "no image writer for this file type");
-    if (!out->open(temporary, spec) || !out->write_image(spec.format, pixels) || !out->close()) {
-        std::error_code ec;
-        std::filesystem::remove(temporary, ec);
+    if (!out->open(path, spec) || !out->write_image(spec.format, pixels) || !out->close())
         throw InputError(path, "", "cannot write image: " + out->geterror());
-    }
-    std::filesystem::rename(temporary, path);
 }
 
 }  // namespace
@@ -40,8 +35,7 @@ void writeFloatChannels(const std::string& path, int width, int height,
     for (std::size_t c = 0; c < names.size(); ++c)
         if (names[c] == "Z") spec.z_channel = int(c);
     spec.attribute("compression", "zip");
-    writeImage(path, path + ".tmp-patchsim" + std::filesystem::path(path).extension().string(),
-               spec, pixels.data());
+    writeImage(path, spec, pixels.data());
 }
 
 void writeExr(const Image& image, const std::string& path) {
@@ -53,7 +47,7 @@ void writePng(const Image& image, const std::string& path) {
     for (std::size_t i = 0; i < bytes.size(); ++i)
         bytes[i] = static_cast<unsigned char>(std::lround(linearToSrgb(image.rgb[i]) * 255.0f));
     OIIO::ImageSpec spec(image.width, image.height, 3, OIIO::TypeDesc::UINT8);
-    writeImage(path, path + ".tmp-patchsim.png", spec, bytes.data());
+    writeImage(path, spec, bytes.data());
 }
 
 std::vector<std::string> readChannelNames(const std::string& path) {

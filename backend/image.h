@@ -1,7 +1,7 @@
 #pragma once
 // Linear float RGB images and their output through OpenImageIO: EXR keeps linear values, PNG is
-// 8-bit sRGB. Files are written under a temporary name and renamed, so a failed write leaves
-// nothing behind.
+// 8-bit sRGB. The writers write the path they are given; commands stage it through an OutputSet
+// (pipeline/core/output_set.h) so that a failure leaves nothing behind.
 
 #include <string>
 #include <vector>

@@ -5,6 +5,7 @@
 
 #include "pipeline/core/counters.h"
 #include "pipeline/core/parallel.h"
+#include "pipeline/core/progress.h"
 
 namespace patchsim {
 
@@ -89,7 +90,7 @@ Vec3 shadeSample(const ShadingContext& c, const VisibilityBuffer& opaque,
 
 std::vector<float> shadeSamples(const ShadingContext& c, const VisibilityBuffer& opaque,
                                 const TransparentLayers* transparent, ShadingRate rate,
-                                int threads) {
+                                int threads, Progress* progress) {
     const int spp = opaque.samplesPerPixel();
     std::vector<float> colors(opaque.records().size() * 3);
     parallelFor(std::size_t(opaque.height()), threads, [&](int, std::size_t row) {
@@ -106,6 +107,7 @@ std::vector<float> shadeSamples(const ShadingContext& c, const VisibilityBuffer&
             }
         }
         omSamplesResolved += std::int64_t(opaque.width()) * spp;
+        if (progress) progress->advance();
     });
     return colors;
 }
@@ -147,9 +149,10 @@ Image filterSamples(const std::vector<float>& colors, const VisibilityBuffer& la
 
 ResolvedFrame resolveFrame(const ShadingContext& c, const VisibilityBuffer& opaque,
                            const TransparentLayers* transparent, const ResolveOptions& options,
-                           int threads) {
+                           int threads, Progress* progress) {
     ResolvedFrame frame;
-    frame.color = filterSamples(shadeSamples(c, opaque, transparent, options.shadingRate, threads),
+    frame.color = filterSamples(
+        shadeSamples(c, opaque, transparent, options.shadingRate, threads, progress),
                                 opaque, *c.samples, options);
     const std::size_t pixels = std::size_t(opaque.width()) * std::size_t(opaque.height());
     frame.depth.assign(pixels, 0.0f);

@@ -53,8 +53,6 @@ PATCHSIM_COUNTER(
     "RS/Full-screen bounds", "groups",
     "Groups whose boxes reach in front of the near plane: bounds fall back to the whole screen",
     rsFullScreen);
-PATCHSIM_COUNTER("RS/Groups over scratch budget", "groups",
-                 "Hierarchies larger than the on-chip scratch budget", rsOverBudget);
 
 void WorkCounts::add(const WorkCounts& o) {
     tilesInBounds += o.tilesInBounds;
@@ -72,7 +70,6 @@ void WorkCounts::add(const WorkCounts& o) {
     rayTriangleTests += o.rayTriangleTests;
     visibilitySamples += o.visibilitySamples;
     fullScreenBounds += o.fullScreenBounds;
-    overScratchBudget += o.overScratchBudget;
     patches += o.patches;
     transparentFragments += o.transparentFragments;
     transparentOverflow += o.transparentOverflow;
@@ -94,7 +91,6 @@ void WorkCounts::flush() const {
     rsRayTriangleTests += rayTriangleTests;
     rsVisibilitySamples += visibilitySamples;
     rsFullScreen += fullScreenBounds;
-    rsOverBudget += overScratchBudget;
     rsPatches += patches;
     omTransparentFragments += transparentFragments;
     omTransparentOverflow += transparentOverflow;
@@ -281,7 +277,6 @@ void PatchRasterizer::screenBounds(const PatchHierarchy& h, float bounds[4],
 void PatchRasterizer::prepareGroup(const MovingMesh& mesh, const std::uint32_t* triangles,
                                    std::size_t count, Group& group, WorkCounts& work) const {
     group.hierarchy.build(mesh, triangles, count, options_.leafSize);
-    if (group.hierarchy.bytes() > options_.scratchBudgetBytes) ++work.overScratchBudget;
     float b[4];
     screenBounds(group.hierarchy, b, work);
     const int t = options_.tileSize;
@@ -452,7 +447,7 @@ void PatchRasterizer::rasterizeTile(const MovingMesh& mesh, const Group& group, 
 void PatchRasterizer::rasterize(const MovingMesh& mesh, const VisibilityTargets& targets,
                                 WorkCounts& work) {
     ++work.patches;
-    splitIntoGroups(mesh, options_.maxTrianglesPerGroup, order_, groupBegin_);
+    splitIntoGroups(mesh, options_.trianglesPerGroup(), order_, groupBegin_);
     for (std::size_t g = 0; g + 1 < groupBegin_.size(); ++g) {
         const std::uint32_t begin = groupBegin_[g], end = groupBegin_[g + 1];
         if (begin == end) continue;

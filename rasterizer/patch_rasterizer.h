@@ -34,7 +34,7 @@ struct WorkCounts {
     std::int64_t branchDepthSum = 0;
     std::int64_t samplesTested = 0, samplesRejectedTime = 0, raysCast = 0;
     std::int64_t rayBoxTests = 0, rayTriangleTests = 0, visibilitySamples = 0;
-    std::int64_t fullScreenBounds = 0, overScratchBudget = 0, patches = 0;
+    std::int64_t fullScreenBounds = 0, patches = 0;
     std::int64_t transparentFragments = 0, transparentOverflow = 0;
     void add(const WorkCounts& o);
     void flush() const;  // into the RS/ thread-local counters

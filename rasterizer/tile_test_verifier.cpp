@@ -17,6 +17,11 @@ void registerTileTest(std::unique_ptr<TileTestVariant> variant) {
     tileTestRegistry().push_back(std::move(variant));
 }
 
+void unregisterTileTest(const std::string& name) {
+    auto& registry = tileTestRegistry();
+    std::erase_if(registry, [&](const auto& v) { return v->name() == name; });
+}
+
 const std::vector<std::unique_ptr<TileTestVariant>>& registeredTileTests() {
     return tileTestRegistry();
 }

@@ -45,6 +45,21 @@ class TileTestVariant {
 };
 
 void registerTileTest(std::unique_ptr<TileTestVariant> variant);
+void unregisterTileTest(const std::string& name);
+
+// Registered for the lifetime of this object (e.g. a deliberately broken variant in a test).
+class ScopedTileTest {
+  public:
+    explicit ScopedTileTest(std::unique_ptr<TileTestVariant> variant) : name_(variant->name()) {
+        registerTileTest(std::move(variant));
+    }
+    ~ScopedTileTest() { unregisterTileTest(name_); }
+    ScopedTileTest(const ScopedTileTest&) = delete;
+    ScopedTileTest& operator=(const ScopedTileTest&) = delete;
+
+  private:
+    std::string name_;
+};
 const std::vector<std::unique_ptr<TileTestVariant>>& registeredTileTests();
 
 struct TileTestReport {

@@ -126,6 +126,75 @@ TEST(Cli, BadInputFailsCleanly) {
     expectCleanFailure(huge, "over the memory budget");
 }
 
+TEST(Cli, NonRegularFilesAndDuplicateKeysAreRefused) {
+    expectCleanFailure("/dev/zero", "'/dev/zero' is not a regular file");
+    const std::string zeroCage =
+        writeFile("zero-cage.json", R"({"objects": [{"cage": "/dev/zero"}]})");
+    expectCleanFailure(zeroCage, "zero-cage.json: objects[0].cage: '/dev/zero' is not a regular file");
+    const std::string twice = writeFile(
+        "twice.json", R"({"film": {"spp": 4, "spp": 8}, "objects": [{"cage": "x.obj"}]})");
+    expectCleanFailure(twice, "twice.json: film.spp: key given twice");
+}
+
+// Every output problem is bad input (exit 2, the path named) found before the work, and a
+// failure leaves no file behind, not even a temporary.
+TEST(Cli, OutputPathErrorsExitTwoAndLeaveNothing) {
+    const std::string tmp = patchsim::test::temporaryDirectory() + "/outputs";
+    fs::remove_all(tmp);
+    fs::create_directories(tmp);
+    const std::string file = writeFile("outputs/plain-file", "x");
+    const std::string small = sourcePath("scenes/static.json") + " -q --no-progress";
+    auto expectRefused = [&](const std::string& args, const std::string& message) {
+        const CommandResult r = run(args);
+        EXPECT_EQ(r.exitCode, 2) << args << "\n" << r.output;
+        EXPECT_NE(r.output.find(message), std::string::npos) << args << "\n" << r.output;
+        EXPECT_EQ(r.output.find("internal error"), std::string::npos) << r.output;
+    };
+    expectRefused("render " + small + " -o " + file + "/below", file + "/below: -o: cannot make");
+    expectRefused("render " + small + " -o " + file, file + ": -o: is a file");
+    expectRefused("render " + small + " -o /proc/patchsim-out", "/proc/patchsim-out: -o");
+    expectRefused("render " + small + " -o " + tmp + "/r1 --trace " + tmp,
+                  tmp + ": --trace: is a folder");
+    EXPECT_FALSE(fs::exists(tmp + "/r1")) << "the output folder made for a failed render";
+    fs::create_directories(tmp + "/r2/image.exr");
+    expectRefused("render " + small + " -o " + tmp + "/r2", tmp + "/r2/image.exr: -o: is a folder");
+    expectRefused("tessellate -q " + sourcePath("scenes/static.json") + " -o " + tmp,
+                  tmp + ": -o: is a folder");
+    const std::string grid = writeFile("outputs/grid.json", R"({"rasterizer": {"tile_size": [8]},
+        "film": {"width": 8, "height": 8, "spp": 1}})");
+    expectRefused("explore " + sourcePath("scenes/static.json") + " --grid " + grid + " -o " + tmp,
+                  tmp + ": -o: is a folder");
+    expectRefused("explore " + sourcePath("scenes/static.json") + " --grid " + grid + " -o " +
+                      tmp + "/points.csv --plots " + file,
+                  file + ": --plots: is a file");
+    // What is left: the plain file, the grid, the folder named image.exr. Nothing else.
+    std::vector<std::string> left;
+    for (const auto& entry : fs::recursive_directory_iterator(tmp))
+        left.push_back(fs::relative(entry.path(), tmp).string());
+    std::sort(left.begin(), left.end());
+    EXPECT_EQ(left, (std::vector<std::string>{"grid.json", "plain-file", "r2", "r2/image.exr"}));
+}
+
+TEST(Cli, CommandLineNumbersAreCheckedWithClearMessages) {
+    CommandResult r = run("info --threads -1");
+    EXPECT_NE(r.exitCode, 0);
+    EXPECT_NE(r.output.find("must be 0 (all cores) or a number of threads"), std::string::npos)
+        << r.output;
+    EXPECT_LT(r.output.size(), 400u) << r.output;
+    r = run("explore --grid x.json --threads -3");
+    EXPECT_NE(r.exitCode, 0);
+    EXPECT_NE(r.output.find("must be 0 (all cores)"), std::string::npos) << r.output;
+    r = run("info --memory-budget-mib 17592186044416");
+    EXPECT_NE(r.exitCode, 0);
+    EXPECT_NE(r.output.find("--memory-budget-mib"), std::string::npos) << r.output;
+    // The budget holds for the built-in scene too (it asks for 320x240 at 16 spp, 37 MiB).
+    r = run("info --memory-budget-mib 1");
+    EXPECT_EQ(r.exitCode, 2) << r.output;
+    EXPECT_NE(r.output.find("over the memory budget of 1 MiB"), std::string::npos) << r.output;
+    r = run("--help");
+    EXPECT_NE(r.output.find("out/"), std::string::npos) << "a bare patchsim writes out/";
+}
+
 TEST(Cli, InfoAndTessellateEveryRegressionCage) {
     auto cages = patchsim::test::sharedModelFiles();
     ASSERT_FALSE(cages.empty()) << "shared cages missing";
@@ -174,8 +243,13 @@ TEST(Cli, RenderWritesImagesAndStats) {
 TEST(Cli, RenderRejectsBadRasterizerOptions) {
     const std::string dir = patchsim::test::temporaryDirectory() + "/bad-render";
     CommandResult r = run("render -q -o " + dir + " --tile-size 0");
-    EXPECT_NE(r.exitCode, 0);
-    EXPECT_NE(r.output.find("rasterizer.tile_size"), std::string::npos) << r.output;
+    EXPECT_EQ(r.exitCode, 2);
+    EXPECT_NE(r.output.find("command line: --tile-size: value 0 is outside [1, 256]"),
+              std::string::npos)
+        << r.output;
+    r = run("render -q -o " + dir + " --tile-size 8.5");
+    EXPECT_EQ(r.exitCode, 2);
+    EXPECT_NE(r.output.find("--tile-size: expected an integer"), std::string::npos) << r.output;
     r = run("render -q -o " + dir + " --branch-method sideways");
     EXPECT_NE(r.exitCode, 0);
     EXPECT_NE(r.output.find("--branch-method"), std::string::npos) << r.output;
@@ -234,6 +308,10 @@ TEST(Cli, ProgressBarOnlyOnATerminal) {
     while ((n = fread(buffer, 1, sizeof buffer, pipe)) > 0) output.append(buffer, n);
     pclose(pipe);
     EXPECT_NE(output.find("58/58 patches"), std::string::npos) << output;
+    EXPECT_NE(output.find("shading    [##############################] 100%  240/240 rows"),
+              std::string::npos)
+        << "the bar must follow the render to its end\n"
+        << output;
     EXPECT_NE(output.find("took"), std::string::npos) << output;
 }
 
@@ -282,9 +360,9 @@ TEST(Cli, ExploreWritesCsvAndPlotsAndMpiGivesTheSameFile) {
     // OpenMPI's own start-up allocations are never freed; under LeakSanitizer they would be
     // reported as leaks of this run, so leak detection is off for the MPI run alone (the same
     // explore code ran above without MPI, with it on).
-    const std::string mpi =
-        "ASAN_OPTIONS=detect_leaks=0 OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 "
-        "mpirun -np 2 --oversubscribe -x ASAN_OPTIONS ";
+    const std::string mpiEnv =
+        "ASAN_OPTIONS=detect_leaks=0 OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 ";
+    const std::string mpi = mpiEnv + "mpirun -np 2 --oversubscribe -x ASAN_OPTIONS ";
     const std::string command = mpi + PATCHSIM_BINARY + " explore " + scenes + " --grid " + grid +
                                 " -o " + dir + "/mpi.csv --threads 1 2>&1";
     ASSERT_EQ(std::system(command.c_str()), 0);
@@ -292,6 +370,17 @@ TEST(Cli, ExploreWritesCsvAndPlotsAndMpiGivesTheSameFile) {
     const std::string distributed((std::istreambuf_iterator<char>(mpiIn)),
                                   std::istreambuf_iterator<char>());
     EXPECT_TRUE(local == distributed) << "mpirun -np 2 wrote a different file";
+    // A bad value in the job rank 1 would run: every rank refuses the grid before any job, so
+    // no rank waits for another; all exit 2.
+    const std::string bad = writeFile("bad-grid.json", R"({"rasterizer": {"tile_size": [8, 0]}})");
+    const std::string badRun = mpiEnv + "timeout 120 mpirun -np 2 --oversubscribe -x ASAN_OPTIONS " +
+                               PATCHSIM_BINARY + " explore " + scenes +
+                               " --grid " + bad + " -o " + dir + "/bad.csv > " + dir +
+                               "/bad.log 2>&1";
+    const int status = std::system(badRun.c_str());
+    ASSERT_TRUE(WIFEXITED(status));
+    EXPECT_EQ(WEXITSTATUS(status), 2) << "124 means a rank hung";
+    EXPECT_FALSE(fs::exists(dir + "/bad.csv"));
 }
 
 TEST(Cli, RenderWithHardwareConfigAndTrace) {

@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <nlohmann/json.hpp>
+
 #include "pipeline/core/error.h"
 #include "tests/test_paths.h"
 
@@ -49,17 +51,43 @@ TEST(HardwareConfig, ErrorsNameTheField) {
 
 TEST(HardwareConfig, ParametersBySetPath) {
     HardwareConfig c = defaultHardwareConfig();
-    setHardwareParameter(c, "RS.units", 4, "grid.json");
-    setHardwareParameter(c, "RS.throughput.ray_box_tests", 32, "grid.json");
-    setHardwareParameter(c, "PS.fifo_depth", 2, "grid.json");
-    setHardwareParameter(c, "clock_ghz", 2, "grid.json");
+    auto set = [&](const char* path, const nlohmann::json& value) {
+        setHardwareParameter(c, path, value, "grid.json", path);
+    };
+    set("RS.units", 4);
+    set("RS.throughput.ray_box_tests", 32);
+    set("PS.fifo_depth", 2);
+    set("clock_ghz", 2);
     EXPECT_EQ(c.stage(Stage::RS).units, 4);
     EXPECT_EQ(c.stage(Stage::RS).throughput[std::size_t(Op::RayBoxTests)], 32);
     EXPECT_EQ(c.stage(Stage::PS).fifoDepth, 2);
     EXPECT_EQ(c.clockGHz, 2);
-    EXPECT_THROW(setHardwareParameter(c, "RS.throughput.invocations", 1, "grid.json"), InputError);
-    EXPECT_THROW(setHardwareParameter(c, "XX.units", 1, "grid.json"), InputError);
-    EXPECT_THROW(setHardwareParameter(c, "RS.units", -1, "grid.json"), InputError);
+    EXPECT_THROW(set("RS.throughput.invocations", 1), InputError);
+    EXPECT_THROW(set("XX.units", 1), InputError);
+    EXPECT_THROW(set("RS.units", -1), InputError);
+}
+
+// The same ranges as the hardware file: units and FIFO depths are whole and at least 1,
+// throughputs at least 1e-9, nothing overflows.
+TEST(HardwareConfig, SetPathRefusesWhatTheFileReaderRefuses) {
+    HardwareConfig c = defaultHardwareConfig();
+    for (const auto& [path, value] :
+         std::vector<std::pair<const char*, nlohmann::json>>{{"RS.units", 0.5},
+                                                             {"RS.units", 1e10},
+                                                             {"RS.units", "8"},
+                                                             {"RS.fifo_depth", 2.5},
+                                                             {"RS.throughput.ray_box_tests", 1e-12},
+                                                             {"clock_ghz", 0},
+                                                             {"scratch_budget_bytes", 10.5}}) {
+        try {
+            setHardwareParameter(c, path, value, "grid.json", "hardware." + std::string(path));
+            ADD_FAILURE() << path << " = " << value.dump() << " accepted";
+        } catch (const InputError& e) {
+            EXPECT_NE(std::string(e.what()).find("grid.json: hardware." + std::string(path)),
+                      std::string::npos)
+                << e.what();
+        }
+    }
 }
 
 }  // namespace

@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <filesystem>
+
 #include <algorithm>
 #include <limits>
 
@@ -46,8 +48,12 @@ TEST(HeatMap, FrameWorkGivesPixelAndTileMaps) {
     work.samplesTested.assign(work.samplesTested.size(), 4);
     work.visibilitySamples.assign(work.visibilitySamples.size(), 1);
     const std::string dir = test::temporaryDirectory();
-    const std::vector<std::string> files = writeHeatMaps(work, dir);
+    OutputSet outputs;
+    const std::vector<std::string> files = writeHeatMaps(work, dir, outputs);
     EXPECT_EQ(files.size(), 11u);
+    for (const std::string& f : files) EXPECT_FALSE(std::filesystem::exists(f)) << "before commit";
+    outputs.commit();
+    for (const std::string& f : files) EXPECT_TRUE(std::filesystem::exists(f)) << f;
     for (const char* name :
          {"heat_samples_tested_pixel.png", "heat_rays_cast_tile.png", "heat_ste_pixel.png",
           "heat_ray_triangle_tests_tile.png", "heat_tile_tests_tile.png"})

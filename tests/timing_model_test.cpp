@@ -5,6 +5,10 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
+#include "pipeline/core/scene_reader.h"
+#include "pipeline/driver/render.h"
+#include "tests/test_paths.h"
+
 namespace patchsim {
 namespace {
 
@@ -38,6 +42,17 @@ TEST(TimingModel, SingleStage) {
     // Two units halve it.
     c.stage(Stage::IA).units = 2;
     EXPECT_DOUBLE_EQ(simulateTiming(patchesWith(3, {{Op::Patches, 4}}), c).totalCycles, 3);
+}
+
+TEST(TimingModel, AFrameWithNoWorkHasNoBottleneck) {
+    const TimingReport none = simulateTiming({}, flatConfig());
+    EXPECT_FALSE(none.bottleneck.has_value());
+    EXPECT_STREQ(none.bottleneckName(), "none");
+    const TimingReport idle = simulateTiming(patchesWith(3, {}), flatConfig());
+    EXPECT_FALSE(idle.bottleneck.has_value());
+    std::ostringstream text;
+    printTimingReport(idle, text);
+    EXPECT_NE(text.str().find("bottleneck none"), std::string::npos) << text.str();
 }
 
 TEST(TimingModel, SecondStageIsTheBottleneck) {
@@ -103,6 +118,22 @@ TEST(TimingModel, ChromeTraceHasOneSlicePerPatchAndStage) {
     EXPECT_EQ(slices, 4);  // IA and RS for two patches
     // 2 cycles at 2 GHz is 0.001 us.
     EXPECT_DOUBLE_EQ(trace["traceEvents"][16]["dur"].get<double>(), 0.001);
+}
+
+// Every method's counted work is charged: the reference method tests every sample against every
+// triangle, far more rasterizer work than the patch method for the same frame.
+TEST(TimingModel, TheReferenceMethodsWorkIsCharged) {
+    SceneDesc scene = readSceneFile(test::sourcePath("scenes/motion.json"));
+    scene.film = {48, 32, 2, 1};
+    const HardwareConfig hw = defaultHardwareConfig();
+    const TimingReport patch = simulateTiming(renderScene(scene, {}).patchOps, hw);
+    RenderOptions reference;
+    reference.method = VisibilityMethod::Reference;
+    const TimingReport brute = simulateTiming(renderScene(scene, reference).patchOps, hw);
+    EXPECT_GT(brute.stages[std::size_t(Stage::RS)].busy,
+              10 * patch.stages[std::size_t(Stage::RS)].busy);
+    EXPECT_GT(brute.totalCycles, patch.totalCycles);
+    EXPECT_EQ(brute.bottleneck, Stage::RS);
 }
 
 }  // namespace

@@ -4,6 +4,8 @@
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
+#include <map>
+#include <nlohmann/json.hpp>
 #include <optional>
 #include <sstream>
 
@@ -13,6 +15,8 @@
 #include "pipeline/core/error.h"
 #include "pipeline/core/hardware_config.h"
 #include "pipeline/core/scene_reader.h"
+#include "pipeline/core/output_set.h"
+#include "pipeline/core/rasterizer_options.h"
 #include "pipeline/core/text_file.h"
 #include "pipeline/driver/explore.h"
 #include "pipeline/driver/render.h"
@@ -32,20 +36,42 @@ struct CommonOptions {
     EffectOverrides overrides;
 };
 
-SceneDesc loadScene(const CommonOptions& common) {
+constexpr std::uint64_t kMaxMemoryBudgetMiB = std::uint64_t(1) << 30;  // 1 PiB
+
+SceneLimits limitsOf(std::uint64_t budgetMiB) {
     SceneLimits limits;
-    limits.memoryBudgetBytes = common.memoryBudgetMiB << 20;
-    if (common.scene.empty()) return defaultScene();
+    limits.memoryBudgetBytes = budgetMiB << 20;
+    return limits;
+}
+
+SceneDesc loadScene(const CommonOptions& common) {
+    const SceneLimits limits = limitsOf(common.memoryBudgetMiB);
+    if (common.scene.empty()) return defaultScene(limits);
     return readSceneOrCage(common.scene, limits);
 }
+
+// 0 (all cores) or a positive count; CLI11's own check prints the largest double as the bound.
+const CLI::Validator kThreadCount(
+    [](std::string& text) -> std::string {
+        try {
+            std::size_t used = 0;
+            const long n = std::stol(text, &used);
+            if (used == text.size() && n >= 0 && n <= 4096) return {};
+        } catch (const std::exception&) {
+        }
+        return "must be 0 (all cores) or a number of threads up to 4096, not '" + text + "'";
+    },
+    "0..4096", "thread count");
+
+const CLI::Validator kBudgetMiB = CLI::Range(std::uint64_t(1), kMaxMemoryBudgetMiB);
 
 void addCommonOptions(CLI::App& cmd, CommonOptions& common, bool effects) {
     cmd.add_option("scene", common.scene,
                    "Scene JSON file, or an OBJ cage to view alone (default: the built-in scene)");
-    cmd.add_option("--threads", common.threads, "Worker threads (0: all cores)")
-        ->check(CLI::NonNegativeNumber);
+    cmd.add_option("--threads", common.threads, "Worker threads (0: all cores)")->check(kThreadCount);
     cmd.add_option("--memory-budget-mib", common.memoryBudgetMiB,
-                   "Largest film the scene may ask for, in MiB of per-sample state");
+                   "Largest film the scene may ask for, in MiB of per-sample state")
+        ->check(kBudgetMiB);
     if (effects) {
         cmd.add_flag("--no-motion", common.overrides.disableMotion, "Do not simulate motion blur");
         cmd.add_flag("--no-defocus", common.overrides.disableDefocus,
@@ -55,9 +81,11 @@ void addCommonOptions(CLI::App& cmd, CommonOptions& common, bool effects) {
     }
 }
 
-void writeStats(const std::string& path, const StatsContext& context) {
+void writeStats(OutputSet& outputs, const std::string& path, const std::string& field,
+                const StatsContext& context) {
     const CounterValues values = CounterRegistry::instance().snapshot();
-    writeFileAtomically(path, [&](std::ostream& out) { writeStatsJson(out, context, values); });
+    outputs.writeText(path, field,
+                      [&](std::ostream& out) { writeStatsJson(out, context, values); });
 }
 
 int runInfo(const CommonOptions& common) {
@@ -70,17 +98,22 @@ int runInfo(const CommonOptions& common) {
 int runTessellate(const CommonOptions& common, const std::string& output, float time,
                   const std::string& statsPath, bool quiet) {
     FrontEnd frontEnd(loadScene(common));
+    OutputSet outputs;
+    outputs.file(output, "-o");  // checked before the work
+    if (!statsPath.empty()) outputs.file(statsPath, "--stats");
     TessellateOptions options;
     options.time = time;
     options.threads = common.threads;
     TessellationSummary summary;
-    writeFileAtomically(
-        output, [&](std::ostream& out) { summary = writeTessellationObj(frontEnd, options, out); });
+    outputs.writeText(output, "-o", [&](std::ostream& out) {
+        summary = writeTessellationObj(frontEnd, options, out);
+    });
+    StatsContext context{"tessellate", frontEnd.scene().path, {{"time", std::to_string(time)}}};
+    if (!statsPath.empty()) writeStats(outputs, statsPath, "--stats", context);
+    outputs.commit();
     std::cout << "wrote " << output << ": " << summary.patches << " patches, " << summary.vertices
               << " vertices, " << summary.triangles << " triangles at t=" << time << "\n";
-    StatsContext context{"tessellate", frontEnd.scene().path, {{"time", std::to_string(time)}}};
     if (!quiet) printCounterTable(std::cout, CounterRegistry::instance().snapshot());
-    if (!statsPath.empty()) writeStats(statsPath, context);
     return 0;
 }
 
@@ -88,9 +121,8 @@ struct RenderCommand {
     CommonOptions common;
     std::string outputDir = "out";
     std::string method = "patch";
-    // Rasterizer options given on the command line override the scene's.
-    std::optional<int> tileSize, leafSize, boundsLevel, maxTrianglesPerGroup;
-    std::optional<std::string> branchMethod;
+    // Rasterizer options given on the command line override the scene's, by their table key.
+    std::map<std::string, std::string> rasterizer;
     bool noTimeRefinement = false, noZCulling = false, quiet = false;
     std::string filter = "box", shadingRate = "per-fragment";
     int maxLayers = 16;
@@ -104,16 +136,13 @@ void addRenderOptions(CLI::App& cmd, RenderCommand& r) {
                    "Output folder for image.exr, image.png, stats.json");
     cmd.add_option("--method", r.method, "Visibility method")
         ->check(CLI::IsMember({"patch", "reference"}));
-    cmd.add_option("--tile-size", r.tileSize, "Tile side in pixels");
-    cmd.add_option("--leaf-size", r.leafSize, "Triangles per hierarchy leaf");
-    cmd.add_option("--bounds-level", r.boundsLevel,
-                   "Hierarchy level whose boxes give the screen bounds");
-    cmd.add_option("--branch-method", r.branchMethod, "root, first-split or bitmask");
-    cmd.add_option("--max-triangles-per-group", r.maxTrianglesPerGroup,
-                   "Split larger patches into groups");
-    cmd.add_flag("--no-time-refinement", r.noTimeRefinement,
-                 "Do not narrow time intervals at leaves");
-    cmd.add_flag("--no-z-culling", r.noZCulling, "Do not cull against the z-buffer");
+    for (const RasterizerOptionField& field : rasterizerOptionFields()) {
+        cmd.add_option_function<std::string>(
+            field.flag, [&r, key = field.key](const std::string& v) { r.rasterizer[key] = v; },
+            field.help);
+    }
+    cmd.add_flag("--no-time-refinement", r.noTimeRefinement, "Same as --time-refinement false");
+    cmd.add_flag("--no-z-culling", r.noZCulling, "Same as --z-culling false");
     cmd.add_flag("-q,--quiet", r.quiet, "Do not print the counter table");
     cmd.add_option("--filter", r.filter, "Resolve filter")
         ->check(CLI::IsMember({"box", "gaussian"}));
@@ -134,15 +163,14 @@ void addRenderOptions(CLI::App& cmd, RenderCommand& r) {
 int runRender(const RenderCommand& r) {
     SceneDesc scene = loadScene(r.common);
     RasterizerOptions& o = scene.rasterizer;
-    if (r.tileSize) o.tileSize = *r.tileSize;
-    if (r.leafSize) o.leafSize = *r.leafSize;
-    if (r.boundsLevel) o.boundsLevel = *r.boundsLevel;
-    if (r.maxTrianglesPerGroup) o.maxTrianglesPerGroup = *r.maxTrianglesPerGroup;
-    if (r.branchMethod && !parseBranchMethod(*r.branchMethod, o.branchMethod))
-        throw InputError("command line", "--branch-method",
-                         "unknown method '" + *r.branchMethod + "'");
-    if (r.noTimeRefinement) o.timeRefinement = false;
-    if (r.noZCulling) o.zCulling = false;
+    std::map<std::string, std::string> given = r.rasterizer;
+    if (r.noTimeRefinement) given["time_refinement"] = "false";
+    if (r.noZCulling) given["z_culling"] = "false";
+    for (const auto& [key, text] : given) {
+        const RasterizerOptionField& field = *findRasterizerOptionField(key);
+        const std::string error = field.set(o, optionValueFromText(text));
+        if (!error.empty()) throw InputError("command line", field.flag, error);
+    }
     o.validate("command line");
     RenderOptions options;
     options.method =
@@ -158,16 +186,22 @@ int runRender(const RenderCommand& r) {
     options.progress = !r.noProgress;
     const HardwareConfig hardware =
         r.hardware.empty() ? defaultHardwareConfig() : readHardwareConfig(r.hardware);
+    // Every output path is checked before the work; nothing is written unless all succeed.
+    OutputSet outputs;
+    outputs.folder(r.outputDir, "-o");
+    const std::string exr = r.outputDir + "/image.exr", png = r.outputDir + "/image.png",
+                      stats = r.outputDir + "/stats.json";
+    for (const std::string& file : {exr, png, stats}) outputs.file(file, "-o");
+    if (!r.trace.empty()) outputs.file(r.trace, "--trace");
     CounterRegistry::instance().reset();
     const RenderResult result = renderScene(scene, options);
     for (const std::string& note : result.notes) std::cerr << "patchsim: " << note << "\n";
     const TimingReport timing = simulateTiming(result.patchOps, hardware);
     const CounterValues counters = CounterRegistry::instance().snapshot();
-    std::filesystem::create_directories(r.outputDir);
-    writeExrWithAovs(result.frame, r.outputDir + "/image.exr");
-    writePng(result.frame.color, r.outputDir + "/image.png");
+    writeExrWithAovs(result.frame, outputs.file(exr, "-o"));
+    writePng(result.frame.color, outputs.file(png, "-o"));
     std::vector<std::string> heatMaps;
-    if (result.pixelWork) heatMaps = writeHeatMaps(*result.pixelWork, r.outputDir);
+    if (result.pixelWork) heatMaps = writeHeatMaps(*result.pixelWork, r.outputDir, outputs);
     const std::int64_t tested = counters.at("RS/Samples tested");
     const double ste = tested ? double(counters.at("RS/Visibility samples")) / double(tested) : 0.0;
     const std::int64_t shaded = counters.at("PS/Invocations"), reused = counters.at("PS/Reused");
@@ -193,9 +227,11 @@ int runRender(const RenderCommand& r) {
         {"z culling", o.zCulling ? "on" : "off"}};
     context.facts.push_back(
         {"hardware", r.hardware.empty() ? "builtin:hw/default.json" : r.hardware});
-    writeStats(r.outputDir + "/stats.json", context);
+    writeStats(outputs, stats, "-o", context);
     if (!r.trace.empty())
-        writeFileAtomically(r.trace, [&](std::ostream& out) { writeChromeTrace(timing, out); });
+        outputs.writeText(r.trace, "--trace",
+                          [&](std::ostream& out) { writeChromeTrace(timing, out); });
+    outputs.commit();
     if (!r.quiet) printCounterTable(std::cout, counters);
     printTimingReport(timing, std::cout);
     std::cout << "rendered " << scene.path << " (" << describeMode(result.effects) << ") with the "
@@ -218,53 +254,61 @@ struct ExploreCommand {
 };
 
 int runExplore(const ExploreCommand& e, const MpiContext& mpi) {
-    SceneLimits limits;
-    limits.memoryBudgetBytes = e.memoryBudgetMiB << 20;
+    const SceneLimits limits = limitsOf(e.memoryBudgetMiB);
     std::vector<SceneDesc> scenes;
     for (const std::string& s : e.scenes) scenes.push_back(readSceneOrCage(s, limits));
-    if (scenes.empty()) scenes.push_back(defaultScene());
+    if (scenes.empty()) scenes.push_back(defaultScene(limits));
     const ExploreGrid grid = parseExploreGrid(readTextFile(e.grid), e.grid);
     const HardwareConfig hardware =
         e.hardware.empty() ? defaultHardwareConfig() : readHardwareConfig(e.hardware);
+    OutputSet outputs;  // only rank 0 writes; every rank checks the paths alike
+    outputs.file(e.output, "-o");
+    if (!e.plots.empty()) outputs.folder(e.plots, "--plots");
     const std::size_t jobs = exploreJobs(scenes.size(), grid).size();
-    // Jobs are dealt round-robin over ranks; each rank tags its rows with the job number.
+    // Jobs are dealt round-robin over ranks; each rank tags its rows with the job number. A job
+    // that fails on one rank must not leave the others waiting: every rank reports, then all stop.
     std::string mine;
-    runExploreJobs(
-        scenes, grid, hardware, e.threads,
-        [&](std::size_t j) { return int(j % std::size_t(mpi.size())) == mpi.rank(); },
-        [&](std::size_t j, const std::vector<std::string>& rows) {
-            for (const std::string& row : rows) mine += std::to_string(j) + "\t" + row + "\n";
-            if (mpi.rank() == 0)
-                std::cerr << "explore: job " << j + 1 << " of " << jobs << " done\n";
-        });
+    std::exception_ptr failure;
+    try {
+        runExploreJobs(
+            scenes, grid, hardware, mpi.threadsPerRank(e.threads), limits,
+            [&](std::size_t j) { return int(j % std::size_t(mpi.size())) == mpi.rank(); },
+            [&](std::size_t j, const std::vector<std::string>& rows) {
+                for (const std::string& row : rows) mine += std::to_string(j) + "\t" + row + "\n";
+                if (mpi.rank() == 0)
+                    std::cerr << "explore: job " << j + 1 << " of " << jobs << " done\n";
+            });
+    } catch (const InputError&) {
+        failure = std::current_exception();
+    }
+    if (!mpi.allSucceeded(failure == nullptr)) {
+        if (failure) std::rethrow_exception(failure);
+        return 2;  // another rank failed and printed why
+    }
     const std::vector<std::string> parts = mpi.gather(mine);
     if (mpi.rank() != 0) return 0;
     std::vector<std::pair<std::size_t, std::string>> rows;
     for (const std::string& part : parts) {
         std::istringstream in(part);
         std::string line;
-        std::size_t order = 0;
         while (std::getline(in, line)) {
             const auto tab = line.find('\t');
-            rows.push_back(
-                {std::stoul(line.substr(0, tab)) * 1000000 + order++, line.substr(tab + 1)});
+            rows.push_back({std::stoul(line.substr(0, tab)), line.substr(tab + 1)});
         }
     }
-    std::stable_sort(rows.begin(), rows.end(), [](const auto& a, const auto& b) {
-        return a.first / 1000000 < b.first / 1000000;
-    });
+    std::stable_sort(rows.begin(), rows.end(),
+                     [](const auto& a, const auto& b) { return a.first < b.first; });
     std::string csv = exploreCsvHeader(grid) + "\n";
-    for (const auto& [key, row] : rows) csv += row + "\n";
-    writeFileAtomically(e.output, [&](std::ostream& out) { out << csv; });
+    for (const auto& [job, row] : rows) csv += row + "\n";
+    outputs.writeText(e.output, "-o", [&](std::ostream& out) { out << csv; });
+    std::vector<std::string> plots;
+    if (!e.plots.empty()) plots = writeExplorePlots(csv, grid, e.plots, outputs);
+    outputs.commit();
     std::cout << "wrote " << e.output << ": " << rows.size() << " points (" << jobs << " renders"
               << (mpi.active() ? " over " + std::to_string(mpi.size()) + " MPI ranks"
                                : std::string())
               << ")\n";
-    if (!e.plots.empty()) {
-        std::filesystem::create_directories(e.plots);
-        for (const std::string& file : writeExplorePlots(csv, grid, e.plots))
-            std::cout << "wrote " << file << "\n";
-    }
+    for (const std::string& file : plots) std::cout << "wrote " << file << "\n";
     return 0;
 }
 
@@ -291,6 +335,10 @@ int main(int argc, char** argv) {
         "patchsim: a cycle-approximate D3D11-style pipeline with a patch rasterizer for "
         "motion and defocus blur (US 8,791,945)"};
     app.require_subcommand(0, 1);
+    app.footer(
+        "With no subcommand, patchsim renders the built-in default scene (motion blur and "
+        "defocus) into out/ (out/image.exr, out/image.png, out/stats.json), as "
+        "`patchsim render -o out` would.");
 
     CommonOptions infoOptions;
     CLI::App* info =
@@ -333,10 +381,14 @@ int main(int argc, char** argv) {
     explore->add_option("--plots", exploreOptions.plots,
                         "Folder for cycles-against-parameter SVG plots");
     explore->add_option("--hw", exploreOptions.hardware, "Base hardware configuration");
-    explore->add_option("--threads", exploreOptions.threads,
-                        "Worker threads per render (0: all cores)");
-    explore->add_option("--memory-budget-mib", exploreOptions.memoryBudgetMiB,
-                        "Largest film a scene may ask for");
+    explore
+        ->add_option("--threads", exploreOptions.threads,
+                     "Worker threads per render (0: all cores, or under mpirun this rank's share)")
+        ->check(kThreadCount);
+    explore
+        ->add_option("--memory-budget-mib", exploreOptions.memoryBudgetMiB,
+                     "Largest film a scene or the grid may ask for, in MiB of per-sample state")
+        ->check(kBudgetMiB);
 
     try {
         app.parse(argc, argv);

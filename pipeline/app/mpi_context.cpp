@@ -1,6 +1,8 @@
 #include "pipeline/app/mpi_context.h"
 
+#include <algorithm>
 #include <cstdlib>
+#include <thread>
 
 #ifdef PATCHSIM_HAVE_MPI
 #include <mpi.h>
@@ -33,6 +35,32 @@ MpiContext::~MpiContext() {
 #ifdef PATCHSIM_HAVE_MPI
     if (active_) MPI_Finalize();
 #endif
+}
+
+bool MpiContext::allSucceeded(bool ok) const {
+    if (!active_) return ok;
+#ifdef PATCHSIM_HAVE_MPI
+    int mine = ok ? 1 : 0, all = 0;
+    MPI_Allreduce(&mine, &all, 1, MPI_INT, MPI_LAND, MPI_COMM_WORLD);
+    return all != 0;
+#else
+    return ok;
+#endif
+}
+
+int MpiContext::localRanks() const {
+    if (!active_) return 1;
+    if (const char* local = std::getenv("OMPI_COMM_WORLD_LOCAL_SIZE")) {
+        const int n = std::atoi(local);
+        if (n > 0) return n;
+    }
+    return size_;
+}
+
+int MpiContext::threadsPerRank(int requested) const {
+    if (requested > 0) return requested;
+    const int cores = std::max(1, int(std::thread::hardware_concurrency()));
+    return std::max(1, cores / localRanks());
 }
 
 std::vector<std::string> MpiContext::gather(const std::string& text) const {

@@ -19,6 +19,12 @@ class MpiContext {
     bool active() const { return active_; }
     // Every rank's text, in rank order, on rank 0 (empty elsewhere).
     std::vector<std::string> gather(const std::string& text) const;
+    // True on every rank when `ok` is true on every rank (a collective: all ranks must call it).
+    bool allSucceeded(bool ok) const;
+    // Ranks started on this machine (OpenMPI's local size), to share its cores among them.
+    int localRanks() const;
+    // Worker threads for this rank: `requested`, or for 0 (all cores) this rank's share of them.
+    int threadsPerRank(int requested) const;
 
   private:
     int rank_ = 0, size_ = 1;

@@ -6,6 +6,7 @@
 
 #include <array>
 #include <cstdint>
+#include <nlohmann/json_fwd.hpp>
 #include <string>
 #include <string_view>
 
@@ -60,9 +61,10 @@ HardwareConfig readHardwareConfig(const std::string& path);
 HardwareConfig defaultHardwareConfig();  // pipeline/hw/default.json
 
 // Sets one parameter by its path ("RS.units", "RS.throughput.ray_box_tests", "RS.latency",
-// "RS.fifo_depth", "clock_ghz", "scratch_budget_bytes"); throws InputError(source, path) if
-// unknown.
-void setHardwareParameter(HardwareConfig& config, const std::string& path, double value,
-                          const std::string& source);
+// "RS.fifo_depth", "clock_ghz", "scratch_budget_bytes") to a JSON value, with the ranges the file
+// reader applies; throws InputError(source, field) if the path is unknown or the value refused.
+void setHardwareParameter(HardwareConfig& config, const std::string& path,
+                          const nlohmann::json& value, const std::string& source,
+                          const std::string& field);
 
 }  // namespace patchsim

@@ -20,9 +20,65 @@ std::string lineColumn(std::string_view text, std::size_t byte) {
 
 }  // namespace
 
+namespace {
+
+// Keys seen so far in each open object, and the field path to it, to refuse a key given twice
+// (nlohmann would silently keep the last).
+class DuplicateKeyCheck {
+  public:
+    explicit DuplicateKeyCheck(const std::string& path) : path_(path) {}
+
+    bool operator()(int, Json::parse_event_t event, Json& parsed) {
+        switch (event) {
+            case Json::parse_event_t::object_start:
+                frames_.push_back({fieldOfValue(), {}, false});
+                break;
+            case Json::parse_event_t::array_start:
+                frames_.push_back({fieldOfValue() + "[]", {}, true});
+                break;
+            case Json::parse_event_t::object_end:
+            case Json::parse_event_t::array_end:
+                frames_.pop_back();
+                break;
+            case Json::parse_event_t::key: {
+                Frame& f = frames_.back();
+                const std::string key = parsed.get<std::string>();
+                if (!f.keys.insert(key).second)
+                    throw InputError(path_, f.field.empty() ? key : f.field + "." + key,
+                                     "key given twice");
+                lastKey_ = key;
+                break;
+            }
+            case Json::parse_event_t::value:
+                break;
+        }
+        return true;
+    }
+
+  private:
+    struct Frame {
+        std::string field;
+        std::set<std::string> keys;
+        bool array;
+    };
+    // The field a value that starts now belongs to.
+    std::string fieldOfValue() const {
+        if (frames_.empty()) return "";
+        const Frame& f = frames_.back();
+        if (f.array) return f.field;
+        return f.field.empty() ? lastKey_ : f.field + "." + lastKey_;
+    }
+
+    const std::string& path_;
+    std::vector<Frame> frames_;
+    std::string lastKey_;
+};
+
+}  // namespace
+
 Json parseJson(std::string_view text, const std::string& path) {
     try {
-        return Json::parse(text.begin(), text.end());
+        return Json::parse(text.begin(), text.end(), DuplicateKeyCheck(path));
     } catch (const Json::parse_error& e) {
         // nlohmann reports the byte just past the offending token.
         const std::size_t byte = e.byte > 0 ? e.byte - 1 : 0;

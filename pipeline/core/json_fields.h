@@ -126,13 +126,13 @@ class ObjectReader {
 
     const std::string& file() const { return file_; }
 
-  private:
     static std::string formatNumber(double v) {
         char buffer[32];
         std::snprintf(buffer, sizeof buffer, "%g", v);
         return buffer;
     }
 
+  private:
     const Json& json_;
     std::string field_;
     const std::string& file_;

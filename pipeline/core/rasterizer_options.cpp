@@ -1,8 +1,13 @@
 #include "pipeline/core/rasterizer_options.h"
 
+#include <algorithm>
+#include <nlohmann/json.hpp>
+
 #include "pipeline/core/error.h"
 
 namespace patchsim {
+
+using Json = nlohmann::json;
 
 const char* branchMethodName(BranchMethod m) {
     switch (m) {
@@ -26,15 +31,91 @@ bool parseBranchMethod(const std::string& name, BranchMethod& out) {
     return false;
 }
 
+int RasterizerOptions::trianglesPerGroup() const {
+    return maxTrianglesPerGroup > 0 ? maxTrianglesPerGroup
+                                    : std::min(256, kMaxLeavesPerHierarchy * leafSize);
+}
+
 void RasterizerOptions::validate(const std::string& source) const {
-    auto check = [&](bool ok, const char* field, const char* message) {
-        if (!ok) throw InputError(source, std::string("rasterizer.") + field, message);
-    };
-    check(tileSize >= 1 && tileSize <= 256, "tile_size", "must be in [1, 256]");
-    check(leafSize >= 1 && leafSize <= 64, "leaf_size", "must be in [1, 64]");
-    check(boundsLevel >= 0 && boundsLevel <= 6, "bounds_level", "must be in [0, 6]");
-    check(maxTrianglesPerGroup >= 1 && maxTrianglesPerGroup <= leafSize * 64,
-          "max_triangles_per_group", "must be in [1, 64 * leaf_size]");
+    if (trianglesPerGroup() > kMaxLeavesPerHierarchy * leafSize)
+        throw InputError(source, "rasterizer.max_triangles_per_group",
+                         std::to_string(maxTrianglesPerGroup) + " is more than a hierarchy of 64 " +
+                             "leaves of " + std::to_string(leafSize) + " holds (at most " +
+                             std::to_string(kMaxLeavesPerHierarchy * leafSize) + ")");
+}
+
+namespace {
+
+std::string describe(const Json& j) {
+    if (!j.is_string()) return j.dump();
+    std::string quoted(1, '\'');
+    quoted.append(j.get<std::string>()).push_back('\'');
+    return quoted;
+}
+
+// An integer in [lo, hi] (a JSON number without fraction), or an error message.
+std::string integerIn(const Json& j, int lo, int hi, int& out) {
+    if (!j.is_number_integer())
+        return "expected an integer in [" + std::to_string(lo) + ", " + std::to_string(hi) +
+               "], found " + describe(j);
+    const auto v = j.is_number_unsigned() ? std::int64_t(std::min<std::uint64_t>(
+                                                j.get<std::uint64_t>(), std::uint64_t(1) << 62))
+                                          : j.get<std::int64_t>();
+    if (v < lo || v > hi)
+        return "value " + std::to_string(v) + " is outside [" + std::to_string(lo) + ", " +
+               std::to_string(hi) + "]";
+    out = int(v);
+    return {};
+}
+
+std::string boolean(const Json& j, bool& out) {
+    if (!j.is_boolean()) return "expected true or false, found " + describe(j);
+    out = j.get<bool>();
+    return {};
+}
+
+const std::vector<RasterizerOptionField> kFields = {
+    {"tile_size", "--tile-size", "Tile side in pixels (1..256)",
+     [](RasterizerOptions& o, const Json& j) { return integerIn(j, 1, 256, o.tileSize); }},
+    {"leaf_size", "--leaf-size", "Triangles per hierarchy leaf (1..64)",
+     [](RasterizerOptions& o, const Json& j) { return integerIn(j, 1, 64, o.leafSize); }},
+    {"bounds_level", "--bounds-level",
+     "Hierarchy level whose boxes give the screen bounds (0 = root .. 6)",
+     [](RasterizerOptions& o, const Json& j) { return integerIn(j, 0, 6, o.boundsLevel); }},
+    {"branch_method", "--branch-method", "Where rays start: root, first-split or bitmask",
+     [](RasterizerOptions& o, const Json& j) -> std::string {
+         if (j.is_string() && parseBranchMethod(j.get<std::string>(), o.branchMethod)) return {};
+         return "unknown branch method " + describe(j) + " (root, first-split, bitmask)";
+     }},
+    {"time_refinement", "--time-refinement",
+     "Narrow each tile's time interval at the leaves (true/false)",
+     [](RasterizerOptions& o, const Json& j) { return boolean(j, o.timeRefinement); }},
+    {"z_culling", "--z-culling", "Cull against the z-buffer (true/false)",
+     [](RasterizerOptions& o, const Json& j) { return boolean(j, o.zCulling); }},
+    {"max_triangles_per_group", "--max-triangles-per-group",
+     "Split larger patches into groups of at most this many triangles (0: 64 leaves' worth)",
+     [](RasterizerOptions& o, const Json& j) {
+         return integerIn(j, 0, 64 * 64, o.maxTrianglesPerGroup);
+     }},
+};
+
+}  // namespace
+
+const std::vector<RasterizerOptionField>& rasterizerOptionFields() {
+    return kFields;
+}
+
+const RasterizerOptionField* findRasterizerOptionField(const std::string& key) {
+    for (const RasterizerOptionField& f : kFields)
+        if (key == f.key) return &f;
+    return nullptr;
+}
+
+Json optionValueFromText(const std::string& text) {
+    if (text == "true") return true;
+    if (text == "false") return false;
+    const Json number = Json::parse(text, nullptr, /*allow_exceptions=*/false);
+    return number.is_number() ? number : Json(text);
 }
 
 }  // namespace patchsim

@@ -1,9 +1,17 @@
 #pragma once
-// Options of the patch rasterizer (SPEC section 4), settable from a scene's "rasterizer" object
-// and from the command line. Documented in docs/SCENES.md.
+// Options of the patch rasterizer (SPEC section 4), documented in docs/SCENES.md.
+//
+// Representation
+// --------------
+// One plain struct, and one table of its fields: each field's JSON key (in a scene's "rasterizer"
+// object and in an explore grid), its command-line flag, its help text and the one function that
+// checks and sets it from a JSON value. The scene reader, the command line and the explore grid
+// all go through the table, so a value is accepted or refused by the same rule everywhere.
 
 #include <cstdint>
+#include <nlohmann/json_fwd.hpp>
 #include <string>
+#include <vector>
 
 namespace patchsim {
 
@@ -16,13 +24,30 @@ struct RasterizerOptions {
     int leafSize = 4;     // triangles per leaf
     int boundsLevel = 0;  // tree level whose boxes give the screen bounds
     BranchMethod branchMethod = BranchMethod::Bitmask;
-    bool timeRefinement = true;                    // narrow [tmin, tmax] at the leaves
-    bool zCulling = true;                          // tile far plane and ray tmax from the z-buffer
-    int maxTrianglesPerGroup = 256;                // at most 64 leaves per hierarchy
-    std::uint64_t scratchBudgetBytes = 16 * 1024;  // on-chip memory for one hierarchy
+    bool timeRefinement = true;  // narrow [tmin, tmax] at the leaves
+    bool zCulling = true;        // tile far plane and ray tmax from the z-buffer
+    // Larger patches are split into groups of at most this many triangles; 0: as many as a
+    // hierarchy of 64 leaves holds (64 x leafSize), at most 256.
+    int maxTrianglesPerGroup = 0;
 
-    // Throws InputError(source, "rasterizer.FIELD") when a value is out of range.
+    int trianglesPerGroup() const;
+    // Throws InputError(source, "rasterizer.max_triangles_per_group") when the fields disagree.
     void validate(const std::string& source) const;
 };
+
+inline constexpr int kMaxLeavesPerHierarchy = 64;
+
+struct RasterizerOptionField {
+    const char* key;   // "tile_size"
+    const char* flag;  // "--tile-size"
+    const char* help;
+    // Checks `value` and sets the field; returns an error message, empty when accepted.
+    std::string (*set)(RasterizerOptions& options, const nlohmann::json& value);
+};
+const std::vector<RasterizerOptionField>& rasterizerOptionFields();
+const RasterizerOptionField* findRasterizerOptionField(const std::string& key);
+
+// A command-line or grid value as JSON: a number, true/false, or otherwise a string.
+nlohmann::json optionValueFromText(const std::string& text);
 
 }  // namespace patchsim

@@ -55,7 +55,7 @@ void readShutter(ObjectReader r, ShutterDesc& s) {
     r.finish();
 }
 
-void readFilm(ObjectReader r, FilmDesc& f, const SceneLimits& limits) {
+void readFilm(ObjectReader r, FilmDesc& f) {
     f.width = static_cast<int>(r.integer("width", f.width, 1, 16384));
     f.height = static_cast<int>(r.integer("height", f.height, 1, 16384));
     f.samplesPerPixel = static_cast<int>(r.integer("spp", f.samplesPerPixel, 1, 4096));
@@ -66,13 +66,6 @@ void readFilm(ObjectReader r, FilmDesc& f, const SceneLimits& limits) {
         r.fail(r.fieldName("sampler"), "unknown sampler '" + sampler + "' (stratified, grid)");
     f.gridSamples = sampler == "grid";
     r.finish();
-    if (filmBytes(f) > limits.memoryBudgetBytes) {
-        r.fail(r.fieldName("spp"),
-               "film of " + std::to_string(f.width) + "x" + std::to_string(f.height) + " at " +
-                   std::to_string(f.samplesPerPixel) + " spp needs " +
-                   std::to_string(filmBytes(f) >> 20) + " MiB, over the memory budget of " +
-                   std::to_string(limits.memoryBudgetBytes >> 20) + " MiB");
-    }
 }
 
 void readTessellation(ObjectReader r, TessellationDesc& t) {
@@ -97,27 +90,12 @@ void readTessellation(ObjectReader r, TessellationDesc& t) {
 }
 
 void readRasterizer(ObjectReader r, RasterizerOptions& o) {
-    o.tileSize = int(r.integer("tile_size", o.tileSize, 1, 256));
-    o.leafSize = int(r.integer("leaf_size", o.leafSize, 1, 64));
-    o.boundsLevel = int(r.integer("bounds_level", o.boundsLevel, 0, 6));
-    const std::string branch = r.string("branch_method", branchMethodName(o.branchMethod));
-    if (!parseBranchMethod(branch, o.branchMethod))
-        r.fail(r.fieldName("branch_method"),
-               "unknown branch method '" + branch + "' (root, first-split, bitmask)");
-    if (const Json* j = r.find("time_refinement")) {
-        if (!j->is_boolean())
-            r.fail(r.fieldName("time_refinement"), "expected true or false, found " + typeName(*j));
-        o.timeRefinement = j->get<bool>();
+    for (const RasterizerOptionField& field : rasterizerOptionFields()) {
+        const Json* value = r.find(field.key);
+        if (!value) continue;
+        const std::string error = field.set(o, *value);
+        if (!error.empty()) r.fail(r.fieldName(field.key), error);
     }
-    if (const Json* j = r.find("z_culling")) {
-        if (!j->is_boolean())
-            r.fail(r.fieldName("z_culling"), "expected true or false, found " + typeName(*j));
-        o.zCulling = j->get<bool>();
-    }
-    o.maxTrianglesPerGroup =
-        int(r.integer("max_triangles_per_group", o.maxTrianglesPerGroup, 1, 4096));
-    o.scratchBudgetBytes = std::uint64_t(r.integer(
-        "scratch_budget_bytes", std::int64_t(o.scratchBudgetBytes), 64, std::int64_t(1) << 30));
     r.finish();
     o.validate(r.file());
 }
@@ -185,6 +163,17 @@ ObjectDesc readObject(ObjectReader r, const std::string& baseDir, std::size_t in
 
 }  // namespace
 
+void checkMemoryBudget(const FilmDesc& f, const SceneLimits& limits, const std::string& source,
+                       const std::string& field) {
+    if (filmBytes(f) <= limits.memoryBudgetBytes) return;
+    throw InputError(source, field,
+                     "film of " + std::to_string(f.width) + "x" + std::to_string(f.height) +
+                         " at " + std::to_string(f.samplesPerPixel) + " spp needs " +
+                         std::to_string(filmBytes(f) >> 20) + " MiB, over the memory budget of " +
+                         std::to_string(limits.memoryBudgetBytes >> 20) +
+                         " MiB (--memory-budget-mib)");
+}
+
 std::uint64_t filmBytes(const FilmDesc& film) {
     constexpr std::uint64_t kBytesPerSample = 32;
     return std::uint64_t(film.width) * std::uint64_t(film.height) *
@@ -200,7 +189,7 @@ SceneDesc parseScene(std::string_view text, const std::string& path, const std::
     if (auto camera = root.object("camera")) readCamera(*camera, scene.camera);
     if (auto lens = root.object("lens")) readLens(*lens, scene.lens);
     if (auto shutter = root.object("shutter")) readShutter(*shutter, scene.shutter);
-    if (auto film = root.object("film")) readFilm(*film, scene.film, limits);
+    if (auto film = root.object("film")) readFilm(*film, scene.film);
     if (auto tess = root.object("tessellation")) readTessellation(*tess, scene.tessellation);
     if (auto raster = root.object("rasterizer")) readRasterizer(*raster, scene.rasterizer);
     const Json* objects = root.find("objects");
@@ -213,6 +202,7 @@ SceneDesc parseScene(std::string_view text, const std::string& path, const std::
             ObjectReader((*objects)[i], "objects[" + std::to_string(i) + "]", path), baseDir, i));
     }
     root.finish();
+    checkMemoryBudget(scene.film, limits, path);
     return scene;
 }
 
@@ -221,7 +211,7 @@ SceneDesc readSceneFile(const std::string& path, const SceneLimits& limits) {
     return parseScene(text, path, parentDirectory(path), limits);
 }
 
-SceneDesc sceneForCage(const std::string& objPath) {
+SceneDesc sceneForCage(const std::string& objPath, const SceneLimits& limits) {
     const Cage cage = readObjCage(objPath);
     Vec3 lo(std::numeric_limits<float>::max()), hi(-std::numeric_limits<float>::max());
     for (const Vec3& p : cage.positions) {
@@ -245,18 +235,19 @@ SceneDesc sceneForCage(const std::string& objPath) {
     object.cagePath = objPath;
     object.scheme = schemeFromCageName(objPath);
     scene.objects.push_back(object);
+    checkMemoryBudget(scene.film, limits, objPath, "film");
     return scene;
 }
 
 SceneDesc readSceneOrCage(const std::string& path, const SceneLimits& limits) {
-    if (std::filesystem::path(path).extension() == ".obj") return sceneForCage(path);
+    if (std::filesystem::path(path).extension() == ".obj") return sceneForCage(path, limits);
     return readSceneFile(path, limits);
 }
 
-SceneDesc defaultScene() {
+SceneDesc defaultScene(const SceneLimits& limits) {
     const auto text = builtinAsset("default.json");
     if (!text) throw InputError("builtin:default.json", "", "built-in scene missing from build");
-    return parseScene(*text, "builtin:default.json", "builtin:");
+    return parseScene(*text, "builtin:default.json", "builtin:", limits);
 }
 
 }  // namespace patchsim

@@ -17,36 +17,19 @@ std::string readTextFile(const std::string& path, const std::string& referringFi
                          "no built-in asset named '" + path + "'");
     }
     std::error_code ec;
+    const std::string& blame = referringFile.empty() ? path : referringFile;
     if (std::filesystem::is_directory(path, ec))
-        throw InputError(referringFile.empty() ? path : referringFile, field,
-                         "'" + path + "' is a directory, not a file");
+        throw InputError(blame, field, "'" + path + "' is a directory, not a file");
+    // Devices, pipes and sockets (e.g. /dev/zero) are not input files; nor is a missing one.
+    if (std::filesystem::exists(path, ec) && !std::filesystem::is_regular_file(path, ec))
+        throw InputError(blame, field, "'" + path + "' is not a regular file");
     std::ifstream in(path, std::ios::binary);
     if (!in) {
-        throw InputError(referringFile.empty() ? path : referringFile, field,
-                         "cannot open '" + path + "'");
+        throw InputError(blame, field, "cannot open '" + path + "'");
     }
     std::ostringstream text;
     text << in.rdbuf();
     return text.str();
-}
-
-void writeFileAtomically(const std::string& path, const std::function<void(std::ostream&)>& write) {
-    namespace fs = std::filesystem;
-    const std::string temporary = path + ".tmp-patchsim";
-    try {
-        {
-            std::ofstream out(temporary, std::ios::binary | std::ios::trunc);
-            if (!out) throw InputError(path, "", "cannot write output file");
-            write(out);
-            out.flush();
-            if (!out) throw InputError(path, "", "error while writing output file");
-        }
-        fs::rename(temporary, path);
-    } catch (...) {
-        std::error_code ec;
-        fs::remove(temporary, ec);
-        throw;
-    }
 }
 
 std::string parentDirectory(const std::string& path) {

@@ -1,11 +1,8 @@
 #pragma once
-// Reading whole input files, including the assets built into the binary ("builtin:NAME"), and
-// writing output files atomically (a temporary name, renamed on success) so that a failure never
-// leaves partial output behind.
+// Reading whole input files, including the assets built into the binary ("builtin:NAME"). Output
+// files are written through OutputSet (output_set.h).
 
-#include <functional>
 #include <optional>
-#include <ostream>
 #include <string>
 #include <string_view>
 
@@ -19,10 +16,6 @@ std::string readTextFile(const std::string& path, const std::string& referringFi
 // The built-in asset of that name ("default.json", "catmark_torus.obj", ...), if any.
 std::optional<std::string_view> builtinAsset(std::string_view name);
 inline constexpr std::string_view kBuiltinPrefix = "builtin:";
-
-// Writes through `write` into PATH.tmp-XXXX and renames it to PATH; on any exception the temporary
-// is removed and the exception propagates. Throws InputError if the file cannot be written.
-void writeFileAtomically(const std::string& path, const std::function<void(std::ostream&)>& write);
 
 std::string parentDirectory(const std::string& path);
 std::string joinPath(const std::string& dir, const std::string& relative);

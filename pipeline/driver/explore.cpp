@@ -10,17 +10,14 @@
 
 #include "pipeline/core/counters.h"
 #include "pipeline/core/json_fields.h"
-#include "pipeline/core/text_file.h"
+#include "pipeline/core/output_set.h"
+#include "pipeline/core/rasterizer_options.h"
 #include "pipeline/driver/render.h"
 #include "pipeline/driver/timing_model.h"
 
 namespace patchsim {
 
 namespace {
-
-constexpr const char* kRasterAxes[] = {
-    "tile_size",       "leaf_size", "bounds_level",           "branch_method",
-    "time_refinement", "z_culling", "max_triangles_per_group"};
 
 std::string jsonValueText(const Json& v) {
     if (v.is_string()) return v.get<std::string>();
@@ -29,40 +26,6 @@ std::string jsonValueText(const Json& v) {
     char text[32];
     std::snprintf(text, sizeof text, "%g", v.get<double>());
     return text;
-}
-
-void applyRasterOption(RasterizerOptions& o, const std::string& name, const std::string& value,
-                       const std::string& source) {
-    auto integer = [&] {
-        try {
-            return std::stoi(value);
-        } catch (...) {
-            throw InputError(source, "rasterizer." + name, "'" + value + "' is not an integer");
-        }
-    };
-    auto boolean = [&] {
-        if (value != "true" && value != "false")
-            throw InputError(source, "rasterizer." + name, "'" + value + "' is not true or false");
-        return value == "true";
-    };
-    if (name == "tile_size")
-        o.tileSize = integer();
-    else if (name == "leaf_size") {
-        // A hierarchy has at most 64 leaves: smaller leaves make smaller groups.
-        o.leafSize = integer();
-        o.maxTrianglesPerGroup = std::min(o.maxTrianglesPerGroup, 64 * o.leafSize);
-    } else if (name == "bounds_level")
-        o.boundsLevel = integer();
-    else if (name == "max_triangles_per_group")
-        o.maxTrianglesPerGroup = integer();
-    else if (name == "time_refinement")
-        o.timeRefinement = boolean();
-    else if (name == "z_culling")
-        o.zCulling = boolean();
-    else if (name == "branch_method") {
-        if (!parseBranchMethod(value, o.branchMethod))
-            throw InputError(source, "rasterizer.branch_method", "unknown method '" + value + "'");
-    }
 }
 
 std::string csvField(std::string text) {
@@ -96,45 +59,44 @@ std::vector<std::vector<std::size_t>> crossProduct(const std::vector<GridAxis>& 
 ExploreGrid parseExploreGrid(std::string_view text, const std::string& path) {
     const Json json = parseJson(text, path);
     ExploreGrid grid;
+    grid.path = path;
     ObjectReader root(json, "", path);
     auto readAxis = [&](ObjectReader& section, const std::string& key, bool hardware) {
         const Json* values = section.find(key);
         const std::string field = section.fieldName(key);
         if (!values->is_array() || values->empty())
             section.fail(field, "expected a non-empty array of values");
-        GridAxis axis{key, hardware, {}};
-        for (std::size_t i = 0; i < values->size(); ++i) {
-            const Json& v = (*values)[i];
-            if (!v.is_number() && !v.is_string() && !v.is_boolean())
-                section.fail(field + "[" + std::to_string(i) + "]",
-                             "expected a number, string or boolean");
+        GridAxis axis{key, hardware, {}, {}};
+        for (const Json& v : *values) {
             axis.values.push_back(jsonValueText(v));
+            axis.json.push_back(v);
         }
         return axis;
     };
-    if (auto raster = root.object("rasterizer")) {
-        for (const char* name : kRasterAxes) {
-            if (!raster->find(name)) continue;
-            GridAxis axis = readAxis(*raster, name, false);
-            RasterizerOptions probe;
-            for (const std::string& v : axis.values) applyRasterOption(probe, name, v, path);
+    if (const Json* raster = root.find("rasterizer")) {
+        ObjectReader section(*raster, "rasterizer", path);
+        for (const RasterizerOptionField& option : rasterizerOptionFields()) {  // table order
+            if (!raster->contains(option.key)) continue;
+            GridAxis axis = readAxis(section, option.key, false);
+            for (std::size_t i = 0; i < axis.json.size(); ++i) {
+                RasterizerOptions probe;
+                const std::string error = option.set(probe, axis.json[i]);
+                if (!error.empty())
+                    section.fail(section.fieldName(option.key) + "[" + std::to_string(i) + "]",
+                                 error);
+            }
             grid.rasterAxes.push_back(std::move(axis));
         }
-        raster->finish();
+        section.finish();
     }
     if (const Json* hw = root.find("hardware")) {
-        if (!hw->is_object()) root.fail("hardware", "expected an object of parameter arrays");
-        ObjectReader hardware(*hw, "hardware", path);
+        ObjectReader section(*hw, "hardware", path);
         for (auto it = hw->begin(); it != hw->end(); ++it) {
-            GridAxis axis = readAxis(hardware, it.key(), true);
+            GridAxis axis = readAxis(section, it.key(), true);
             HardwareConfig probe = defaultHardwareConfig();
-            for (const std::string& v : axis.values) {
-                char* end = nullptr;
-                const double number = std::strtod(v.c_str(), &end);
-                if (end == v.c_str() || *end)
-                    hardware.fail("hardware." + it.key(), "'" + v + "' is not a number");
-                setHardwareParameter(probe, it.key(), number, path);
-            }
+            for (std::size_t i = 0; i < axis.json.size(); ++i)
+                setHardwareParameter(probe, it.key(), axis.json[i], path,
+                                     section.fieldName(it.key()) + "[" + std::to_string(i) + "]");
             grid.hardwareAxes.push_back(std::move(axis));
         }
     }
@@ -146,6 +108,21 @@ ExploreGrid parseExploreGrid(std::string_view text, const std::string& path) {
     }
     root.finish();
     return grid;
+}
+
+SceneDesc jobScene(const std::vector<SceneDesc>& scenes, const ExploreGrid& grid,
+                   const ExploreJob& job, const SceneLimits& limits) {
+    SceneDesc scene = scenes[job.scene];
+    for (std::size_t a = 0; a < grid.rasterAxes.size(); ++a) {
+        const GridAxis& axis = grid.rasterAxes[a];
+        findRasterizerOptionField(axis.name)->set(scene.rasterizer, axis.json[job.rasterChoice[a]]);
+    }
+    scene.rasterizer.validate(grid.path);
+    if (grid.width) scene.film.width = grid.width;
+    if (grid.height) scene.film.height = grid.height;
+    if (grid.samplesPerPixel) scene.film.samplesPerPixel = grid.samplesPerPixel;
+    checkMemoryBudget(scene.film, limits, grid.path, "film");
+    return scene;
 }
 
 std::vector<ExploreJob> exploreJobs(std::size_t sceneCount, const ExploreGrid& grid) {
@@ -169,14 +146,9 @@ std::string exploreCsvHeader(const ExploreGrid& grid) {
 
 std::vector<std::string> runExploreJob(const std::vector<SceneDesc>& scenes,
                                        const ExploreGrid& grid, const HardwareConfig& baseHardware,
-                                       const ExploreJob& job, int threads) {
-    SceneDesc scene = scenes[job.scene];
-    for (std::size_t a = 0; a < grid.rasterAxes.size(); ++a)
-        applyRasterOption(scene.rasterizer, grid.rasterAxes[a].name,
-                          grid.rasterAxes[a].values[job.rasterChoice[a]], "grid");
-    if (grid.width) scene.film.width = grid.width;
-    if (grid.height) scene.film.height = grid.height;
-    if (grid.samplesPerPixel) scene.film.samplesPerPixel = grid.samplesPerPixel;
+                                       const ExploreJob& job, int threads,
+                                       const SceneLimits& limits) {
+    const SceneDesc scene = jobScene(scenes, grid, job, limits);
     RenderOptions options;
     options.threads = threads;
     CounterRegistry::instance().reset();
@@ -192,15 +164,14 @@ std::vector<std::string> runExploreJob(const std::vector<SceneDesc>& scenes,
         HardwareConfig hw = baseHardware;
         std::string row = prefix;
         for (std::size_t a = 0; a < grid.hardwareAxes.size(); ++a) {
-            const std::string& v = grid.hardwareAxes[a].values[choice[a]];
-            setHardwareParameter(hw, grid.hardwareAxes[a].name, std::strtod(v.c_str(), nullptr),
-                                 "grid");
-            row.append(",").append(v);
+            const GridAxis& axis = grid.hardwareAxes[a];
+            setHardwareParameter(hw, axis.name, axis.json[choice[a]], grid.path, axis.name);
+            row.append(",").append(axis.values[choice[a]]);
         }
         const TimingReport t = simulateTiming(result.patchOps, hw);
         for (const std::string& field :
              {formatNumber(t.totalCycles), formatNumber(t.microseconds()),
-              std::string(stageName(t.bottleneck)), formatNumber(ste),
+              std::string(t.bottleneckName()), formatNumber(ste),
               std::to_string(t.patchesOverBudget)})
             row.append(",").append(field);
         for (const auto& [name, value] : counters) row.append(",").append(std::to_string(value));
@@ -210,16 +181,17 @@ std::vector<std::string> runExploreJob(const std::vector<SceneDesc>& scenes,
 }
 
 void runExploreJobs(const std::vector<SceneDesc>& scenes, const ExploreGrid& grid,
-                    const HardwareConfig& baseHardware, int threads,
+                    const HardwareConfig& baseHardware, int threads, const SceneLimits& limits,
                     const std::function<bool(std::size_t)>& mine,
                     const std::function<void(std::size_t, const std::vector<std::string>&)>& emit) {
     const std::vector<ExploreJob> jobs = exploreJobs(scenes.size(), grid);
+    for (const ExploreJob& job : jobs) jobScene(scenes, grid, job, limits);
     for (std::size_t j = 0; j < jobs.size(); ++j)
-        if (mine(j)) emit(j, runExploreJob(scenes, grid, baseHardware, jobs[j], threads));
+        if (mine(j)) emit(j, runExploreJob(scenes, grid, baseHardware, jobs[j], threads, limits));
 }
 
 std::vector<std::string> writeExplorePlots(const std::string& csvText, const ExploreGrid& grid,
-                                           const std::string& dir) {
+                                           const std::string& dir, OutputSet& outputs) {
     std::istringstream in(csvText);
     std::string line;
     std::getline(in, line);
@@ -293,7 +265,7 @@ std::vector<std::string> writeExplorePlots(const std::string& csvText, const Exp
         std::string file = axis.name;
         std::replace(file.begin(), file.end(), '.', '_');
         const std::string path = dir + "/cycles_vs_" + file + ".svg";
-        writeFileAtomically(path, [&](std::ostream& out) { out << svg.str(); });
+        outputs.writeText(path, "--plots", [&](std::ostream& out) { out << svg.str(); });
         written.push_back(path);
     }
     return written;

@@ -9,12 +9,14 @@
 // jobs ran on one process or were spread over MPI ranks (docs/EXPLORE.md).
 
 #include <functional>
+#include <nlohmann/json.hpp>
 #include <ostream>
 #include <string>
 #include <vector>
 
 #include "pipeline/core/hardware_config.h"
 #include "pipeline/core/scene.h"
+#include "pipeline/core/scene_reader.h"
 
 namespace patchsim {
 
@@ -22,16 +24,24 @@ struct GridAxis {
     std::string name;  // "tile_size", "RS.units", ...
     bool hardware = false;
     std::vector<std::string> values;  // as written in the CSV (numbers or names)
+    std::vector<nlohmann::json> json;  // as given in the grid file
 };
 
 struct ExploreGrid {
+    std::string path;  // the grid file, for messages
     std::vector<GridAxis> rasterAxes, hardwareAxes;
     // Optional film overrides so sweeps run at a chosen cost.
     int width = 0, height = 0, samplesPerPixel = 0;
 };
 
-// Throws InputError naming the file and field.
+// Throws InputError naming the file and field. Every value is checked here, by the rules the scene
+// and hardware readers apply, so a bad value fails before any render, on every MPI rank alike.
 ExploreGrid parseExploreGrid(std::string_view text, const std::string& path);
+
+// The scene of one job: its rasterizer options and film from the grid. Throws InputError (naming
+// the grid file) when the combination is refused or the film is over the memory budget.
+SceneDesc jobScene(const std::vector<SceneDesc>& scenes, const ExploreGrid& grid,
+                   const struct ExploreJob& job, const SceneLimits& limits);
 
 struct ExploreJob {
     std::size_t scene = 0;
@@ -43,19 +53,21 @@ std::vector<ExploreJob> exploreJobs(std::size_t sceneCount, const ExploreGrid& g
 // Renders one job and returns its CSV rows (one per hardware combination, without newline).
 std::vector<std::string> runExploreJob(const std::vector<SceneDesc>& scenes,
                                        const ExploreGrid& grid, const HardwareConfig& baseHardware,
-                                       const ExploreJob& job, int threads);
+                                       const ExploreJob& job, int threads,
+                                       const SceneLimits& limits = {});
 
 std::string exploreCsvHeader(const ExploreGrid& grid);
 
-// Runs jobs [0, n) for which `mine(j)` is true, in order; `emit(j, rows)` receives each job's rows.
+// Checks every job (jobScene) first, then runs jobs [0, n) for which `mine(j)` is true, in order;
+// `emit(j, rows)` receives each job's rows.
 void runExploreJobs(const std::vector<SceneDesc>& scenes, const ExploreGrid& grid,
-                    const HardwareConfig& baseHardware, int threads,
+                    const HardwareConfig& baseHardware, int threads, const SceneLimits& limits,
                     const std::function<bool(std::size_t)>& mine,
                     const std::function<void(std::size_t, const std::vector<std::string>&)>& emit);
 
 // One SVG per parameter: modelled cycles of every row against that parameter's values, with the
-// mean per value joined. Returns the files written.
+// mean per value joined; files go through `outputs`. Returns the files written.
 std::vector<std::string> writeExplorePlots(const std::string& csvText, const ExploreGrid& grid,
-                                           const std::string& dir);
+                                           const std::string& dir, class OutputSet& outputs);
 
 }  // namespace patchsim

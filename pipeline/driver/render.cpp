@@ -6,7 +6,7 @@
 
 #include "pipeline/core/error.h"
 #include "pipeline/core/parallel.h"
-#include "pipeline/driver/progress.h"
+#include "pipeline/core/progress.h"
 #include "pipeline/driver/scene_info.h"
 #include "rasterizer/reference_rasterizer.h"
 #include "tessellator/front_end.h"
@@ -42,7 +42,7 @@ std::vector<PatchRasterWork> runPatchVisibility(const std::vector<MovingMesh>& m
         WorkCounts& work = prepareWork[std::size_t(w)];
         ++work.patches;
         std::vector<std::uint32_t> triangles, groupBegin;
-        splitIntoGroups(meshes[i], rasterizer.options().maxTrianglesPerGroup, triangles,
+        splitIntoGroups(meshes[i], rasterizer.options().trianglesPerGroup(), triangles,
                         groupBegin);
         for (std::size_t g = 0; g + 1 < groupBegin.size(); ++g) {
             if (groupBegin[g] == groupBegin[g + 1]) continue;
@@ -116,6 +116,28 @@ std::vector<PatchOps> collectPatchOps(const std::vector<TessellatedPatch>& patch
         o.hierarchyBytes = raster[i].largestHierarchyBytes;
     }
     return ops;
+}
+
+// The reference method's work per patch, charged to the rasterizer stage like the patch method's:
+// every sample is tested against every triangle of every patch; its hits are written.
+std::vector<PatchRasterWork> referencePatchWork(const std::vector<MovingMesh>& meshes,
+                                                const VisibilityBuffer& buffer,
+                                                const TransparentLayers* layers) {
+    std::vector<PatchRasterWork> work(meshes.size());
+    const auto samples = std::int64_t(buffer.records().size());
+    for (std::size_t i = 0; i < meshes.size(); ++i) {
+        work[i].work.samplesTested = samples;
+        work[i].work.raysCast = samples;
+        work[i].work.rayTriangleTests = samples * std::int64_t(meshes[i].triangleCount());
+    }
+    for (std::size_t r = 0; r < buffer.records().size(); ++r) {
+        const VisibilityRecord& record = buffer.records()[r];
+        if (record.hit()) ++work[std::size_t(record.patch)].work.visibilitySamples;
+        if (!layers) continue;
+        for (int k = 0; k < layers->count(r); ++k)
+            ++work[std::size_t(layers->layers(r)[k].record.patch)].work.transparentFragments;
+    }
+    return work;
 }
 
 }  // namespace
@@ -198,13 +220,17 @@ RenderResult renderScene(const SceneDesc& scene, const RenderOptions& options) {
             renderReferenceRows(meshes, camera, lens, samples, y0, y1, mine, work);
             progress.advance();
         });
+        rasterWork = referencePatchWork(meshes, *result.visibility, result.transparent.get());
     }
     result.visibilitySeconds = secondsSince(start);
 
     start = std::chrono::steady_clock::now();
     const ShadingContext context{&frontEnd, &patches, &meshes, &camera, &samples};
-    result.frame = resolveFrame(context, *result.visibility, result.transparent.get(),
-                                options.resolve, workers);
+    {
+        Progress progress("shading   ", scene.film.height, 1, options.progress, "rows");
+        result.frame = resolveFrame(context, *result.visibility, result.transparent.get(),
+                                    options.resolve, workers, &progress);
+    }
     result.shadingSeconds = secondsSince(start);
     result.patchOps =
         collectPatchOps(patches, rasterWork,

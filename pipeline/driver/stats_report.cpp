@@ -59,7 +59,7 @@ void writeStatsJson(std::ostream& out, const StatsContext& context, const Counte
         json["timing"] = {{"total_cycles", t.totalCycles},
                           {"microseconds", t.microseconds()},
                           {"clock_ghz", t.clockGHz},
-                          {"bottleneck", stageName(t.bottleneck)},
+                          {"bottleneck", t.bottleneckName()},
                           {"peak_scratch_bytes", t.peakScratchBytes},
                           {"patches_over_scratch_budget", t.patchesOverBudget},
                           {"stages", stages}};

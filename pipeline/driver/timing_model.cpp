@@ -52,7 +52,7 @@ TimingReport simulateTiming(const std::vector<PatchOps>& patches, const Hardware
     if (!patches.empty())
         report.totalCycles =
             report.patches.back().delivered[kStageCount - 1] + config.stages.back().latency;
-    double busiest = -1;
+    double busiest = 0;
     for (int s = 0; s < kStageCount; ++s) {
         StageTiming& st = report.stages[std::size_t(s)];
         st.utilisation = report.totalCycles > 0 ? st.busy / report.totalCycles : 0.0;
@@ -105,7 +105,7 @@ void writeChromeTrace(const TimingReport& report, std::ostream& out) {
 void printTimingReport(const TimingReport& r, std::ostream& out) {
     char line[160];
     std::snprintf(line, sizeof line, "timing: %.0f cycles (%.3f us at %.2f GHz), bottleneck %s\n",
-                  r.totalCycles, r.microseconds(), r.clockGHz, stageName(r.bottleneck));
+                  r.totalCycles, r.microseconds(), r.clockGHz, r.bottleneckName());
     out << line;
     out << "  stage        busy     stalled     starved  utilisation\n";
     for (int s = 0; s < kStageCount; ++s) {

@@ -15,6 +15,7 @@
 
 #include <array>
 #include <cstdint>
+#include <optional>
 #include <ostream>
 #include <vector>
 
@@ -41,7 +42,8 @@ struct PatchTimeline {
 struct TimingReport {
     double totalCycles = 0;
     std::array<StageTiming, kStageCount> stages{};
-    Stage bottleneck = Stage::IA;
+    std::optional<Stage> bottleneck;  // the busiest stage; none when no stage did any work
+    const char* bottleneckName() const { return bottleneck ? stageName(*bottleneck) : "none"; }
     std::uint64_t peakScratchBytes = 0;
     std::size_t patchesOverBudget = 0;
     std::vector<PatchTimeline> patches;

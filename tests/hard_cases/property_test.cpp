@@ -43,6 +43,7 @@ TEST(PropertyTest, RandomMovingDefocusedPatchesAreConservativeAndExact) {
     const Partitioning modes[] = {Partitioning::Integer, Partitioning::Pow2,
                                   Partitioning::FractionalOdd, Partitioning::FractionalEven};
     const int cases = caseCount();
+    int casesWithHits = 0;
     for (int c = 0; c < cases; ++c) {
         SceneDesc scene;
         scene.path = "property case " + std::to_string(c);
@@ -65,9 +66,11 @@ TEST(PropertyTest, RandomMovingDefocusedPatchesAreConservativeAndExact) {
         o.close.rotateDegrees = o.open.rotateDegrees + 45.0f * Vec3(u(rng), u(rng), u(rng));
         if (c % 6 == 0) o.material.opacity = o.material.closeOpacity = 0.5f;
         scene.objects.push_back(o);
-        test::expectStableAndExact(scene, scene.path);
+        casesWithHits += test::expectStableAndExact(scene, scene.path).hits > 0;
         if (HasFailure()) break;  // one failing case says enough
     }
+    // A frame with no hit proves nothing about conservativeness: most cases must see the surface.
+    EXPECT_GT(casesWithHits, cases * 3 / 4) << casesWithHits << " of " << cases << " cases hit";
 }
 
 }  // namespace

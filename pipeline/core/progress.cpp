@@ -1,4 +1,4 @@
-#include "pipeline/driver/progress.h"
+#include "pipeline/core/progress.h"
 
 #include <unistd.h>
 
@@ -6,10 +6,12 @@
 
 namespace patchsim {
 
-Progress::Progress(std::string label, std::int64_t total, std::int64_t unitsPerPatch, bool enabled)
+Progress::Progress(std::string label, std::int64_t total, std::int64_t unitsPerItem, bool enabled,
+                   std::string items)
     : label_(std::move(label)),
       total_(std::max<std::int64_t>(total, 1)),
-      unitsPerPatch_(std::max<std::int64_t>(unitsPerPatch, 1)),
+      unitsPerItem_(std::max<std::int64_t>(unitsPerItem, 1)),
+      items_(std::move(items)),
       enabled_(enabled && terminalAttached()),
       start_(std::chrono::steady_clock::now()),
       lastDraw_(start_) {}
@@ -42,9 +44,10 @@ void Progress::draw(bool final) {
     char bar[kWidth + 1];
     for (int i = 0; i < kWidth; ++i) bar[i] = i < int(fraction * kWidth) ? '#' : '.';
     bar[kWidth] = 0;
-    std::fprintf(stderr, "\r%s [%s] %3d%%  %lld/%lld patches  %s %.1f s%s", label_.c_str(), bar,
-                 int(fraction * 100.0), static_cast<long long>(done / unitsPerPatch_),
-                 static_cast<long long>(total_ / unitsPerPatch_), final ? "took" : "left",
+    std::fprintf(stderr, "\r%s [%s] %3d%%  %lld/%lld %s  %s %.1f s%s", label_.c_str(), bar,
+                 int(fraction * 100.0), static_cast<long long>(done / unitsPerItem_),
+                 static_cast<long long>(total_ / unitsPerItem_), items_.c_str(),
+                 final ? "took" : "left",
                  final ? elapsed : left, final ? "\n" : "  ");
     std::fflush(stderr);
 }

@@ -1,0 +1,51 @@
+#pragma once
+// The files one command writes, made together or not at all.
+//
+// Representation
+// --------------
+// A list of reserved output paths, each with the temporary it is written to first (in the same
+// folder, with the same extension, so image writers pick the format from it), plus the folders the
+// set created. Paths are checked when they are reserved, before any work is done: a folder must
+// be a folder (created if missing), a file's name must not be a folder, and the folder must be
+// writable; each problem is an InputError naming the path and the option it came from. `commit`
+// renames every temporary into place; a set destroyed without committing (the command failed)
+// removes its temporaries and the folders it created, so a failure leaves nothing behind.
+
+#include <functional>
+#include <ostream>
+#include <string>
+#include <vector>
+
+namespace patchsim {
+
+class OutputSet {
+  public:
+    OutputSet() = default;
+    ~OutputSet();
+    OutputSet(const OutputSet&) = delete;
+    OutputSet& operator=(const OutputSet&) = delete;
+
+    // A folder for outputs, made now if missing. `field` names where the path came from ("-o").
+    void folder(const std::string& path, const std::string& field);
+    // Reserves the file `path`; returns the temporary to write it to.
+    std::string file(const std::string& path, const std::string& field);
+    // Reserves `path` and writes it through `write`.
+    void writeText(const std::string& path, const std::string& field,
+                   const std::function<void(std::ostream&)>& write);
+    // Renames every temporary to its final name.
+    void commit();
+
+  private:
+    struct Entry {
+        std::string path, temporary;
+    };
+    std::vector<Entry> files_;
+    std::vector<std::string> createdFolders_;  // outermost first
+    bool committed_ = false;
+};
+
+// Writes one file through an OutputSet of its own.
+void writeFileAtomically(const std::string& path, const std::function<void(std::ostream&)>& write,
+                         const std::string& field = {});
+
+}  // namespace patchsim
