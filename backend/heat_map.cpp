@@ -6,7 +6,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <filesystem>
 
 #include "pipeline/core/error.h"
 
@@ -77,61 +76,57 @@ void writeHeatMap(const HeatMapGrid& grid, const std::string& path) {
                                     10, kFont, white);
     OIIO::ImageBufAlgo::render_text(image, barX1, mapHeight + kLegendHeight - 1, formatValue(hi),
                                     10, kFont, white, OIIO::ImageBufAlgo::TextAlignX::Right);
-    const std::string temporary = path + ".tmp-patchsim.png";
-    if (!image.write(temporary)) {
-        std::error_code ec;
-        std::filesystem::remove(temporary, ec);
+    if (!image.write(path))
         throw InputError(path, "", "cannot write heat map: " + image.geterror());
-    }
-    std::filesystem::rename(temporary, path);
 }
 
-std::vector<std::string> writeHeatMaps(const PixelWork& work, const std::string& dir,
-                                       OutputSet& outputs) {
-    struct Quantity {
-        const char* file;
-        const char* title;
-        const std::vector<std::uint32_t>* numerator;
-        const std::vector<std::uint32_t>* denominator;  // ratio maps (STE)
-    };
-    const Quantity quantities[] = {
-        {"samples_tested", "samples tested", &work.samplesTested, nullptr},
-        {"rays_cast", "rays cast", &work.raysCast, nullptr},
-        {"ray_box_tests", "ray-box tests", &work.rayBoxTests, nullptr},
-        {"ray_triangle_tests", "ray-triangle tests", &work.rayTriangleTests, nullptr},
-        {"ste", "sample test efficiency", &work.visibilitySamples, &work.samplesTested},
-    };
-    std::vector<std::string> written;
-    const int tx = work.tilesX(), ty = work.tilesY();
-    for (const Quantity& q : quantities) {
-        HeatMapGrid pixel{std::string(q.title) + " per pixel", work.width, work.height, 1, {}};
-        HeatMapGrid tile{std::string(q.title) + " per tile", tx, ty, work.tileSize, {}};
-        std::vector<double> tileNum(std::size_t(tx) * std::size_t(ty)), tileDen(tileNum.size());
-        for (int y = 0; y < work.height; ++y) {
-            for (int x = 0; x < work.width; ++x) {
-                const std::size_t p = work.pixel(x, y);
-                const double num = (*q.numerator)[p];
-                const double den = q.denominator ? double((*q.denominator)[p]) : 1.0;
-                pixel.values.push_back(q.denominator ? (den > 0 ? float(num / den) : 0.0f)
-                                                     : float(num));
-                const std::size_t t = work.tile(x / work.tileSize, y / work.tileSize);
-                tileNum[t] += num;
-                tileDen[t] += den;
-            }
-        }
-        for (std::size_t t = 0; t < tileNum.size(); ++t)
-            tile.values.push_back(q.denominator
-                                      ? (tileDen[t] > 0 ? float(tileNum[t] / tileDen[t]) : 0.0f)
-                                      : float(tileNum[t]));
-        for (const auto* grid : {&pixel, &tile}) {
-            const std::string path =
-                dir + "/heat_" + q.file + (grid == &pixel ? "_pixel.png" : "_tile.png");
-            writeHeatMap(*grid, outputs.file(path, "--heatmaps"));
-            written.push_back(path);
+namespace {
+
+// One quantity (or ratio of two) per pixel and summed per tile.
+void addMaps(const PixelCounters& pixels, const char* file, const std::string& title,
+             const std::vector<std::uint32_t>& numerator,
+             const std::vector<std::uint32_t>* denominator, const std::string& dir,
+             OutputSet& outputs, std::vector<std::string>& written) {
+    const TileGrid& g = pixels.grid();
+    HeatMapGrid pixel{title + " per pixel", g.width, g.height, 1, {}};
+    HeatMapGrid tile{title + " per tile", g.tilesX(), g.tilesY(), g.tileSize, {}};
+    std::vector<double> tileNum(g.tileCount()), tileDen(tileNum.size());
+    for (int y = 0; y < g.height; ++y) {
+        for (int x = 0; x < g.width; ++x) {
+            const std::size_t p = pixels.pixel(x, y);
+            const double num = numerator[p];
+            const double den = denominator ? double((*denominator)[p]) : 1.0;
+            pixel.values.push_back(denominator ? (den > 0 ? float(num / den) : 0.0f) : float(num));
+            const std::size_t t = g.index(x / g.tileSize, y / g.tileSize);
+            tileNum[t] += num;
+            tileDen[t] += den;
         }
     }
-    HeatMapGrid tiles{"tile tests per tile", tx, ty, work.tileSize, {}};
-    for (std::uint32_t v : work.tileTests) tiles.values.push_back(float(v));
+    for (std::size_t t = 0; t < tileNum.size(); ++t)
+        tile.values.push_back(denominator ? (tileDen[t] > 0 ? float(tileNum[t] / tileDen[t]) : 0.0f)
+                                          : float(tileNum[t]));
+    for (const auto* grid : {&pixel, &tile}) {
+        const std::string path =
+            dir + "/heat_" + file + (grid == &pixel ? "_pixel.png" : "_tile.png");
+        writeHeatMap(*grid, outputs.file(path, "--heatmaps"));
+        written.push_back(path);
+    }
+}
+
+}  // namespace
+
+std::vector<std::string> writeHeatMaps(const PixelCounters& pixels, const std::string& dir,
+                                       OutputSet& outputs) {
+    std::vector<std::string> written;
+    for (std::size_t q = 0; q < kPixelQuantities.size(); ++q)
+        addMaps(pixels, kPixelQuantities[q].file, kPixelQuantities[q].title, pixels.values(q),
+                nullptr, dir, outputs, written);
+    addMaps(pixels, "ste", "sample test efficiency",
+            pixels.values(pixelQuantity("visibility_samples")),
+            &pixels.values(pixelQuantity("samples_tested")), dir, outputs, written);
+    const TileGrid& g = pixels.grid();
+    HeatMapGrid tiles{"tile tests per tile", g.tilesX(), g.tilesY(), g.tileSize, {}};
+    for (std::uint32_t v : pixels.tileTests()) tiles.values.push_back(float(v));
     const std::string path = dir + "/heat_tile_tests_tile.png";
     writeHeatMap(tiles, outputs.file(path, "--heatmaps"));
     written.push_back(path);

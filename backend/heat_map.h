@@ -7,7 +7,7 @@
 #include <vector>
 
 #include "pipeline/core/output_set.h"
-#include "rasterizer/pixel_work.h"
+#include "rasterizer/pixel_counters.h"
 
 namespace patchsim {
 
@@ -26,11 +26,11 @@ HeatColor heatColor(float t);
 
 void writeHeatMap(const HeatMapGrid& grid, const std::string& path);
 
-// Every heat map of a frame's work into `dir`: heat_<quantity>_pixel.png and _tile.png for
-// samples tested, rays cast, ray-box tests, ray-triangle tests, STE and tile tests.
-// Returns the files written.
+// Every heat map of a frame's work into `dir`: heat_<quantity>_pixel.png and _tile.png for each
+// per-pixel quantity (rasterizer/pixel_counters.h) and for the sample test efficiency, and the
+// tile tests per tile. Returns the files written.
 // Files go through `outputs` (written when it commits).
-std::vector<std::string> writeHeatMaps(const PixelWork& work, const std::string& dir,
+std::vector<std::string> writeHeatMaps(const PixelCounters& pixels, const std::string& dir,
                                        OutputSet& outputs);
 
 }  // namespace patchsim

@@ -9,14 +9,10 @@
 
 namespace patchsim {
 
-PATCHSIM_COUNTER("PS/Reused", "samples",
-                 "Samples that reused a colour shaded for the same pixel and triangle "
-                 "(per-pixel-primitive rate)",
-                 psReused);
-PATCHSIM_COUNTER("OM/Layers blended", "fragments",
-                 "Transparent t-fragments blended over the opaque one", omLayersBlended);
-PATCHSIM_COUNTER("OM/Samples resolved", "samples", "Samples whose final colour was resolved",
-                 omSamplesResolved);
+const Counter omLayersBlended{"OM/Layers blended", "fragments",
+                              "Transparent t-fragments blended over the opaque one"};
+const Counter omSamplesResolved{"OM/Samples resolved", "samples",
+                                "Samples whose final colour was resolved"};
 
 const char* resolveFilterName(ResolveFilter f) {
     return f == ResolveFilter::Box ? "box" : "gaussian";
@@ -40,18 +36,18 @@ struct Shaded {
     float opacity;
 };
 
-Shaded shadeRecord(const ShadingContext& c, const VisibilityRecord& r, float time, ShadingRate rate,
+Shaded shadeRecord(const ShadingContext& c, const VisibilityRecord& r, ShadingRate rate,
                    PixelShadeCache& cache) {
     if (rate == ShadingRate::PerPixelPrimitive) {
         for (const auto& e : cache.entries) {
             if (e.patch == r.patch && e.triangle == r.triangle) {
-                ++psReused;
+                ++shadingCounters().reused;
                 return {e.color, e.opacity};
             }
         }
     }
-    const SurfaceAttributes a = interpolateAttributes(c, r, time);
-    const Shaded s{shadeFragment(c, a, time), a.opacity};
+    const SurfaceAttributes a = interpolateAttributes(c, r);
+    const Shaded s{shadeFragment(c, a, r.time), a.opacity};
     if (rate == ShadingRate::PerPixelPrimitive)
         cache.entries.push_back({r.patch, r.triangle, s.color, s.opacity});
     return s;
@@ -60,9 +56,8 @@ Shaded shadeRecord(const ShadingContext& c, const VisibilityRecord& r, float tim
 Vec3 shadeSample(const ShadingContext& c, const VisibilityBuffer& opaque,
                  const TransparentLayers* layers, int x, int y, int s, ShadingRate rate,
                  PixelShadeCache& cache) {
-    const float time = c.samples->sample(x, y, s).time;
     const VisibilityRecord& front = opaque.at(x, y, s);
-    Vec3 color = front.hit() ? shadeRecord(c, front, time, rate, cache).color : kBackground;
+    Vec3 color = front.hit() ? shadeRecord(c, front, rate, cache).color : kBackground;
     if (!layers) return color;
     const std::size_t index = opaque.index(x, y, s);
     const int n = layers->count(index);
@@ -79,7 +74,7 @@ Vec3 shadeSample(const ShadingContext& c, const VisibilityBuffer& opaque,
         return b.record.nearerThan(a.record);
     });
     for (int i = 0; i < kept; ++i) {
-        const Shaded f = shadeRecord(c, sorted[i].record, time, rate, cache);
+        const Shaded f = shadeRecord(c, sorted[i].record, rate, cache);
         color = f.opacity * f.color + (1.0f - f.opacity) * color;
     }
     omLayersBlended += kept;
@@ -89,8 +84,8 @@ Vec3 shadeSample(const ShadingContext& c, const VisibilityBuffer& opaque,
 }  // namespace
 
 std::vector<float> shadeSamples(const ShadingContext& c, const VisibilityBuffer& opaque,
-                                const TransparentLayers* transparent, ShadingRate rate,
-                                int threads, Progress* progress) {
+                                const TransparentLayers* transparent, ShadingRate rate, int threads,
+                                Progress* progress) {
     const int spp = opaque.samplesPerPixel();
     std::vector<float> colors(opaque.records().size() * 3);
     parallelFor(std::size_t(opaque.height()), threads, [&](int, std::size_t row) {
@@ -148,12 +143,12 @@ Image filterSamples(const std::vector<float>& colors, const VisibilityBuffer& la
 }
 
 ResolvedFrame resolveFrame(const ShadingContext& c, const VisibilityBuffer& opaque,
-                           const TransparentLayers* transparent, const ResolveOptions& options,
-                           int threads, Progress* progress) {
+                           const TransparentLayers* transparent, const SampleGenerator& samples,
+                           const ResolveOptions& options, int threads, Progress* progress) {
     ResolvedFrame frame;
-    frame.color = filterSamples(
-        shadeSamples(c, opaque, transparent, options.shadingRate, threads, progress),
-                                opaque, *c.samples, options);
+    frame.color =
+        filterSamples(shadeSamples(c, opaque, transparent, options.shadingRate, threads, progress),
+                      opaque, samples, options);
     const std::size_t pixels = std::size_t(opaque.width()) * std::size_t(opaque.height());
     frame.depth.assign(pixels, 0.0f);
     frame.coverage.assign(pixels, 0.0f);
@@ -171,8 +166,7 @@ ResolvedFrame resolveFrame(const ShadingContext& c, const VisibilityBuffer& opaq
                 if (!r.hit()) continue;
                 ++hits;
                 frame.depth[p] += r.depth;
-                const SurfaceAttributes a =
-                    interpolateAttributes(c, r, c.samples->sample(x, y, s).time);
+                const SurfaceAttributes a = interpolateAttributes(c, r);
                 Vec2 r0, r1;
                 if (c.camera->cameraToRaster(a.cameraPosition0, r0) &&
                     c.camera->cameraToRaster(a.cameraPosition1, r1)) {

@@ -9,6 +9,7 @@
 
 #include "backend/image.h"
 #include "backend/t_fragment.h"
+#include "pipeline/core/samples.h"
 #include "rasterizer/transparent_layers.h"
 
 namespace patchsim {
@@ -33,16 +34,18 @@ struct ResolvedFrame {
 // Per-sample colours (3 floats per sample, sample-major like VisibilityBuffer) after blending.
 // `progress`, when given, advances by one per row shaded.
 std::vector<float> shadeSamples(const ShadingContext& context, const VisibilityBuffer& opaque,
-                                const TransparentLayers* transparent, ShadingRate rate,
-                                int threads, class Progress* progress = nullptr);
+                                const TransparentLayers* transparent, ShadingRate rate, int threads,
+                                class Progress* progress = nullptr);
 
 // Filters per-sample colours to pixels; `samples` gives each sample's position in its pixel.
 Image filterSamples(const std::vector<float>& sampleColors, const VisibilityBuffer& layout,
                     const SampleGenerator& samples, const ResolveOptions& options);
 
+// `samples` gives each sample's position in its pixel, for the Gaussian filter.
 ResolvedFrame resolveFrame(const ShadingContext& context, const VisibilityBuffer& opaque,
-                           const TransparentLayers* transparent, const ResolveOptions& options,
-                           int threads, class Progress* progress = nullptr);
+                           const TransparentLayers* transparent, const SampleGenerator& samples,
+                           const ResolveOptions& options, int threads,
+                           class Progress* progress = nullptr);
 
 // Pixel-shader invocations each patch causes in the final frame (its visible t-fragments, or its
 // distinct pixel-triangle pairs at the per-pixel-primitive rate), for the timing model.

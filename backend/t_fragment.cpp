@@ -6,15 +6,30 @@
 
 namespace patchsim {
 
-PATCHSIM_COUNTER("PS/Invocations", "invocations", "Pixel shader runs (t-fragments shaded)",
-                 psInvocations);
+namespace {
+const Counter psInvocations{"PS/Invocations", "invocations",
+                            "Pixel shader runs (t-fragments shaded)"};
+const Counter psReused{"PS/Reused", "samples",
+                       "Samples that reused a colour shaded for the same pixel and triangle "
+                       "(per-pixel-primitive rate)"};
+}  // namespace
+
+const ShadingCounters& shadingCounters() {
+    static const ShadingCounters counters{psInvocations, psReused};
+    return counters;
+}
+
+double shadingReuseRate(const CounterValues& values) {
+    const std::int64_t shaded = values[psInvocations], reused = values[psReused];
+    return shaded + reused ? double(reused) / double(shaded + reused) : 0.0;
+}
 
 const char* shadingRateName(ShadingRate r) {
     return r == ShadingRate::PerFragment ? "per-fragment" : "per-pixel-primitive";
 }
 
-SurfaceAttributes interpolateAttributes(const ShadingContext& c, const VisibilityRecord& r,
-                                        float time) {
+SurfaceAttributes interpolateAttributes(const ShadingContext& c, const VisibilityRecord& r) {
+    const float time = r.time;
     const TessellatedPatch& patch = (*c.patches)[std::size_t(r.patch)];
     const MovingMesh& mesh = (*c.meshes)[std::size_t(r.patch)];
     const std::uint32_t* v = &patch.tessellation.indices[3 * std::size_t(r.triangle)];

@@ -3,7 +3,8 @@
 //
 // Representation
 // --------------
-// A t-fragment is a visibility sample (patch, triangle, barycentrics, depth) plus its time. Its
+// A t-fragment is a visibility sample (patch, triangle, barycentrics, depth, and the sample's
+// time and lens position). Its
 // surface identity is the patch and the domain (u,v) the barycentrics give on the triangle; from
 // it every attribute is known at t=0 and t=1 (the domain shader's position and normal, the
 // material's colour and opacity at shutter open and close) and blended to the fragment's time,
@@ -12,7 +13,7 @@
 #include <vector>
 
 #include "pipeline/core/camera.h"
-#include "pipeline/core/samples.h"
+#include "pipeline/core/counters.h"
 #include "rasterizer/moving_mesh.h"
 #include "rasterizer/visibility_buffer.h"
 #include "tessellator/front_end.h"
@@ -25,12 +26,13 @@ enum class ShadingRate : std::uint8_t {
 };
 const char* shadingRateName(ShadingRate r);
 
+// What shading reads: the surfaces (tessellated patches with their materials), their
+// camera-space positions (for motion vectors) and the camera.
 struct ShadingContext {
     const FrontEnd* frontEnd = nullptr;
     const std::vector<TessellatedPatch>* patches = nullptr;  // by global patch index
     const std::vector<MovingMesh>* meshes = nullptr;         // camera space, by global patch index
     const Camera* camera = nullptr;
-    const SampleGenerator* samples = nullptr;
 };
 
 struct SurfaceAttributes {
@@ -44,13 +46,24 @@ struct SurfaceAttributes {
     bool unlit = false;
 };
 
+// At the record's own time.
 SurfaceAttributes interpolateAttributes(const ShadingContext& context,
-                                        const VisibilityRecord& record, float time);
+                                        const VisibilityRecord& record);
 
 // Lambert with an ambient term and a checker on the surface (u,v); unlit materials give their
 // colour. Counts one PS invocation.
 Vec3 shadeFragment(const ShadingContext& context, const SurfaceAttributes& surface, float time);
 
 inline const Vec3 kBackground{0.05f, 0.05f, 0.07f};
+
+// The pixel shader's counters: invocations, and samples that reused a colour shaded for the same
+// pixel and triangle (per-pixel-primitive rate).
+struct ShadingCounters {
+    const Counter& invocations;
+    const Counter& reused;
+};
+const ShadingCounters& shadingCounters();
+// Reused / (invoked + reused).
+double shadingReuseRate(const CounterValues& values);
 
 }  // namespace patchsim

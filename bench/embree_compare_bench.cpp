@@ -10,7 +10,7 @@
 #include "pipeline/core/counters.h"
 #include "pipeline/core/scene_reader.h"
 #include "pipeline/driver/render.h"
-#include "rasterizer/patch_rasterizer.h"
+#include "rasterizer/frame_rasterizer.h"
 #include "tessellator/front_end.h"
 
 namespace {
@@ -35,7 +35,8 @@ struct Frame {
             frontEnd->tessellate(i, patch, ws);
             toMovingMesh(patch, frontEnd->camera(), effects.motion, int(i), true, meshes[i]);
         }
-        samples = std::make_unique<SampleGenerator>(scene.film.seed, scene.film.samplesPerPixel, effects);
+        samples =
+            std::make_unique<SampleGenerator>(scene.film.seed, scene.film.samplesPerPixel, effects);
         lens = {scene.lens.apertureRadius, scene.lens.focusDistance};
     }
     std::int64_t sampleCount() const {
@@ -53,10 +54,12 @@ void patchRasterizer(benchmark::State& state) {
     const Camera& camera = f.frontEnd->camera();
     const PatchRasterizer rasterizer(camera, f.lens, *f.samples, f.effects, f.scene.rasterizer);
     std::int64_t hits = 0;
+    FrameRasterOptions singleThread;
+    singleThread.threads = 1;
     for (auto _ : state) {
-        VisibilityBuffer buffer(f.scene.film.width, f.scene.film.height, f.scene.film.samplesPerPixel,
-                                camera.farPlane());
-        runPatchVisibility(f.meshes, rasterizer, 1, {&buffer, nullptr, nullptr, 0});
+        VisibilityBuffer buffer(f.scene.film.width, f.scene.film.height,
+                                f.scene.film.samplesPerPixel, camera.farPlane());
+        rasterizeFrame(f.meshes, rasterizer, {&buffer, nullptr, nullptr, 0}, singleThread);
         hits = 0;
         for (const VisibilityRecord& r : buffer.records()) hits += r.hit();
     }
@@ -75,9 +78,9 @@ void embree(benchmark::State& state) {
         RTCGeometry geometry = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
         rtcSetGeometryTimeStepCount(geometry, 2);
         for (unsigned step = 0; step < 2; ++step) {
-            auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_VERTEX, step,
-                                                                  RTC_FORMAT_FLOAT3, 3 * sizeof(float),
-                                                                  m.position0.size()));
+            auto* v = static_cast<float*>(
+                rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_VERTEX, step, RTC_FORMAT_FLOAT3,
+                                        3 * sizeof(float), m.position0.size()));
             const std::vector<Vec3>& p = step == 0 ? m.position0 : m.position1;
             for (std::size_t i = 0; i < p.size(); ++i) {
                 v[3 * i] = p[i].x;
@@ -85,9 +88,9 @@ void embree(benchmark::State& state) {
                 v[3 * i + 2] = p[i].z;
             }
         }
-        auto* idx = static_cast<unsigned*>(rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_INDEX, 0,
-                                                                   RTC_FORMAT_UINT3, 3 * sizeof(unsigned),
-                                                                   m.triangleCount()));
+        auto* idx = static_cast<unsigned*>(
+            rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
+                                    3 * sizeof(unsigned), m.triangleCount()));
         std::copy(m.indices.begin(), m.indices.end(), idx);
         rtcCommitGeometry(geometry);
         rtcAttachGeometry(scene, geometry);
@@ -95,6 +98,7 @@ void embree(benchmark::State& state) {
     }
     rtcCommitScene(scene);
     std::int64_t hits = 0;
+    const RayCaster caster{camera, f.lens, *f.samples};
     for (auto _ : state) {
         hits = 0;
         RTCIntersectContext context;
@@ -102,7 +106,7 @@ void embree(benchmark::State& state) {
         for (int y = 0; y < f.scene.film.height; ++y) {
             for (int x = 0; x < f.scene.film.width; ++x) {
                 for (int s = 0; s < f.scene.film.samplesPerPixel; ++s) {
-                    const Ray ray = sampleRay(camera, f.lens, *f.samples, x, y, s);
+                    const Ray ray = sampleRay(caster, x, y, s);
                     RTCRayHit rh;
                     rh.ray.org_x = ray.origin.x;
                     rh.ray.org_y = ray.origin.y;
@@ -110,8 +114,8 @@ void embree(benchmark::State& state) {
                     rh.ray.dir_x = ray.direction.x;
                     rh.ray.dir_y = ray.direction.y;
                     rh.ray.dir_z = ray.direction.z;
-                    rh.ray.tnear = camera.nearPlane() / ray.depthPerLambda;
-                    rh.ray.tfar = camera.farPlane() / ray.depthPerLambda;
+                    rh.ray.tnear = ray.lambdaMin;
+                    rh.ray.tfar = ray.lambdaMax;
                     rh.ray.time = ray.time;
                     rh.ray.mask = ~0u;
                     rh.ray.flags = 0;

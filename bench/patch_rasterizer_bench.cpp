@@ -6,7 +6,7 @@
 #include "pipeline/core/counters.h"
 #include "pipeline/core/scene_reader.h"
 #include "pipeline/driver/render.h"
-#include "rasterizer/patch_rasterizer.h"
+#include "rasterizer/frame_rasterizer.h"
 #include "tessellator/front_end.h"
 
 namespace {
@@ -40,26 +40,29 @@ void visibility(benchmark::State& state, const SceneDesc& scene) {
     const LensModel lens{p.effects.defocus ? scene.lens.apertureRadius : 0.0f,
                          scene.lens.focusDistance};
     const PatchRasterizer rasterizer(camera, lens, samples, p.effects, scene.rasterizer);
-    CounterRegistry::instance().reset();
+    RasterWork total;
     std::int64_t frames = 0;
+    FrameRasterOptions singleThread;
+    singleThread.threads = 1;
     for (auto _ : state) {
         VisibilityBuffer buffer(scene.film.width, scene.film.height, scene.film.samplesPerPixel,
                                 camera.farPlane());
-        runPatchVisibility(p.meshes, rasterizer, 1, {&buffer, nullptr, nullptr, 0});
+        const FrameRasterWork work =
+            rasterizeFrame(p.meshes, rasterizer, {&buffer, nullptr, nullptr, 0}, singleThread);
+        for (std::size_t i = 0; i < p.meshes.size(); ++i) total.add(work.patch(i));
         benchmark::DoNotOptimize(buffer.records().data());
         ++frames;
     }
-    const CounterValues c = CounterRegistry::instance().snapshot();
-    const auto perFrame = [&](const char* name) { return double(c.at(name)) / double(frames); };
-    state.counters["STE"] = perFrame("RS/Visibility samples") / perFrame("RS/Samples tested");
-    state.counters["samples tested"] = perFrame("RS/Samples tested");
-    state.counters["rays"] = perFrame("RS/Rays cast");
-    state.counters["ray-box/ray"] = perFrame("RS/Ray-box tests") / perFrame("RS/Rays cast");
-    state.counters["ray-tri/ray"] = perFrame("RS/Ray-triangle tests") / perFrame("RS/Rays cast");
-    state.counters["tiles"] = perFrame("RS/Tiles in bounds");
-    state.counters["plane tests"] = perFrame("RS/Plane tests");
+    const auto perFrame = [&](std::int64_t count) { return double(count) / double(frames); };
+    state.counters["STE"] = perFrame(total.visibilitySamples) / perFrame(total.samplesTested);
+    state.counters["samples tested"] = perFrame(total.samplesTested);
+    state.counters["rays"] = perFrame(total.raysCast);
+    state.counters["ray-box/ray"] = perFrame(total.rayBoxTests) / perFrame(total.raysCast);
+    state.counters["ray-tri/ray"] = perFrame(total.rayTriangleTests) / perFrame(total.raysCast);
+    state.counters["tiles"] = perFrame(total.tilesInBounds);
+    state.counters["plane tests"] = perFrame(total.planeTests);
     state.counters["rays/s"] =
-        benchmark::Counter(perFrame("RS/Rays cast") * double(frames), benchmark::Counter::kIsRate);
+        benchmark::Counter(double(total.raysCast), benchmark::Counter::kIsRate);
 }
 
 void defaultScene(benchmark::State& state) {

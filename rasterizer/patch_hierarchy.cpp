@@ -2,19 +2,7 @@
 
 #include <algorithm>
 
-#include "pipeline/core/counters.h"
-
 namespace patchsim {
-
-PATCHSIM_COUNTER("RS/Groups", "groups",
-                 "Triangle groups rasterized (a patch is one group unless split)", rsGroups);
-PATCHSIM_COUNTER("RS/Nodes built", "nodes", "Hierarchy nodes built (moving boxes)", rsNodesBuilt);
-PATCHSIM_COUNTER("RS/Hierarchy bytes", "bytes",
-                 "Bytes of all hierarchies built (node boxes and leaf triangle lists)",
-                 rsHierarchyBytes);
-PATCHSIM_COUNTER_MAX("RS/Peak hierarchy bytes", "bytes",
-                     "Largest single hierarchy, against the on-chip scratch budget",
-                     rsPeakHierarchyBytes);
 
 namespace {
 
@@ -83,7 +71,7 @@ int PatchHierarchy::levelOf(int node) const {
 void PatchHierarchy::build(const MovingMesh& mesh, const std::uint32_t* triangles,
                            std::size_t count, int leafSize) {
     const std::size_t leavesNeeded = (count + std::size_t(leafSize) - 1) / std::size_t(leafSize);
-    depth_ = std::min(ceilLog2(std::max<std::size_t>(leavesNeeded, 1)), 6);
+    depth_ = std::min(ceilLog2(std::max<std::size_t>(leavesNeeded, 1)), kMaxHierarchyDepth);
     triangles_.assign(triangles, triangles + count);
     orderRange(mesh, triangles_.data(), triangles_.data() + count, 0, depth_);
     const int leaves = 1 << depth_;
@@ -102,11 +90,6 @@ void PatchHierarchy::build(const MovingMesh& mesh, const std::uint32_t* triangle
         nodes_[std::size_t(i)] = nodes_[std::size_t(2 * i + 1)];
         nodes_[std::size_t(i)].extend(nodes_[std::size_t(2 * i + 2)]);
     }
-    ++rsGroups;
-    rsNodesBuilt += std::int64_t(nodes_.size());
-    const auto b = std::int64_t(bytes());
-    rsHierarchyBytes += b;
-    rsPeakHierarchyBytes = std::max(rsPeakHierarchyBytes, b);
 }
 
 std::size_t PatchHierarchy::bytes() const {

@@ -18,16 +18,13 @@
 #include <vector>
 
 #include "pipeline/core/lbbox.h"
+#include "pipeline/core/rasterizer_options.h"
 #include "rasterizer/moving_mesh.h"
 
 namespace patchsim {
 
-inline constexpr int kMaxLeaves = 64;
-
-struct HierarchyOptions {
-    int leafSize = 4;                // triangles per leaf
-    int maxTrianglesPerGroup = 256;  // <= leafSize * 64
-};
+inline constexpr int kMaxHierarchyDepth = 6;  // 2^6 = kMaxLeavesPerHierarchy leaves
+static_assert((1 << kMaxHierarchyDepth) == kMaxLeavesPerHierarchy);
 
 class PatchHierarchy {
   public:

@@ -1,52 +1,79 @@
 #include "rasterizer/reference_rasterizer.h"
 
-#include <algorithm>
-#include <numeric>
-
 #include "pipeline/core/counters.h"
-#include "rasterizer/patch_rasterizer.h"
+#include "rasterizer/conservative_margins.h"
+#include "rasterizer/raster_work.h"
+#include "rasterizer/watertight_triangle.h"
 
 namespace patchsim {
 
-PATCHSIM_COUNTER("REF/Samples", "samples", "Samples traced by the reference method", refSamples);
-PATCHSIM_COUNTER("REF/Ray-triangle tests", "tests",
-                 "Reference ray-triangle tests (every sample against every triangle)",
-                 refTriangleTests);
-PATCHSIM_COUNTER("REF/Visibility samples", "samples", "Reference samples that hit a surface",
-                 refHits);
+namespace {
+
+const Counter refSamples{"REF/Samples", "samples", "Samples traced by the reference method"};
+const Counter refTriangleTests{
+    "REF/Ray-triangle tests", "tests",
+    "Reference ray-triangle tests (every sample against every triangle)"};
+const Counter refHits{"REF/Visibility samples", "samples", "Reference samples that hit a surface"};
+
+// The hit of `ray` on triangle `tri` of `mesh` at the ray's time, if any.
+bool hitTriangle(const MovingMesh& mesh, std::uint32_t tri, const ShearedRay& sheared,
+                 const Ray& ray, float lambdaMax, VisibilityRecord& record) {
+    const std::uint32_t* v = &mesh.indices[3 * std::size_t(tri)];
+    TriangleHit hit;
+    if (!intersectTriangle(sheared, mesh.vertexAt(v[0], ray.time), mesh.vertexAt(v[1], ray.time),
+                           mesh.vertexAt(v[2], ray.time), ray.lambdaMin, lambdaMax, hit))
+        return false;
+    record.depth = hit.lambda * ray.depthPerLambda;
+    record.patch = mesh.patchId;
+    record.triangle = tri;
+    record.b1 = hit.b1;
+    record.b2 = hit.b2;
+    return true;
+}
+
+}  // namespace
 
 void renderReferenceRows(const std::vector<MovingMesh>& meshes, const Camera& camera,
                          const LensModel& lens, const SampleGenerator& samples, int y0, int y1,
                          const VisibilityTargets& targets, ReferenceWork& total) {
     ReferenceWork work;
-    WorkCounts layerWork;
+    RasterWork layerWork;
     VisibilityBuffer& buffer = *targets.opaque;
-    // Triangle ids 0..n-1 once for the largest mesh; each mesh uses its own prefix.
-    std::size_t largest = 0;
-    for (const MovingMesh& mesh : meshes) largest = std::max(largest, mesh.triangleCount());
-    std::vector<std::uint32_t> all(largest);
-    std::iota(all.begin(), all.end(), std::uint32_t(0));
     for (int y = y0; y < y1; ++y) {
         for (int x = 0; x < buffer.width(); ++x) {
             for (int s = 0; s < buffer.samplesPerPixel(); ++s) {
-                const Ray ray = sampleRay(camera, lens, samples, x, y, s);
-                const float lambdaMin = camera.nearPlane() / ray.depthPerLambda;
-                const float lambdaMax = camera.farPlane() / ray.depthPerLambda;
-                VisibilityRecord best;
+                const Sample smp = samples.sample(x, y, s);
+                const Vec2 screen =
+                    rasterToScreen(camera, Vec2(float(x), float(y)) + smp.pixelOffset);
+                const Ray ray =
+                    makeCameraRay(camera, screen, concentricDisk(smp.lens), smp.time, lens);
+                const ShearedRay sheared = shearRay(ray);
+                VisibilityRecord best, hit;
+                best.time = hit.time = smp.time;
+                best.lens = hit.lens = smp.lens;
                 for (const MovingMesh& mesh : meshes) {
                     if (!mesh.opaque && targets.transparent) continue;
-                    work.triangleTests += intersectTriangles(mesh, all.data(), mesh.triangleCount(),
-                                                             ray, lambdaMin, lambdaMax, best);
+                    for (std::uint32_t tri = 0; tri < mesh.triangleCount(); ++tri)
+                        if (hitTriangle(mesh, tri, sheared, ray, ray.lambdaMax, hit) &&
+                            hit.nearerThan(best))
+                            best = hit;
+                    work.triangleTests += std::int64_t(mesh.triangleCount());
                 }
                 // Transparent surfaces in front of the nearest opaque one (inclusive, widened as
-                // the patch method does, so both keep the same fragments).
+                // the patch method's z culling is, so both keep the same fragments).
                 const float opaqueLambda =
-                    best.hit() ? best.depth / ray.depthPerLambda * (1.0f + 1e-6f) : lambdaMax;
+                    best.hit() ? best.depth / ray.depthPerLambda * (1.0f + kDepthTieWidening)
+                               : ray.lambdaMax;
                 for (const MovingMesh& mesh : meshes) {
                     if (mesh.opaque || !targets.transparent) continue;
-                    work.triangleTests += offerAllHits(
-                        mesh, all.data(), mesh.triangleCount(), ray, lambdaMin, opaqueLambda,
-                        *targets.transparent, buffer.index(x, y, s), targets.pool, layerWork);
+                    for (std::uint32_t tri = 0; tri < mesh.triangleCount(); ++tri) {
+                        if (!hitTriangle(mesh, tri, sheared, ray, opaqueLambda, hit)) continue;
+                        ++layerWork.transparentFragments;
+                        if (!targets.transparent->offer(buffer.index(x, y, s), targets.pool,
+                                                        LayerFragment{hit, mesh.objectId}))
+                            ++layerWork.transparentOverflow;
+                    }
+                    work.triangleTests += std::int64_t(mesh.triangleCount());
                 }
                 ++work.samples;
                 if (best.hit()) {

@@ -1,8 +1,9 @@
 #pragma once
 // The reference visibility method: every sample against every triangle of every patch, at the
-// sample's time. It shares the sample set, the ray and the watertight triangle test with the patch
-// rasterizer, and no traversal, bounds or tile code, so it is the oracle the patch rasterizer is
-// checked against sample for sample. Cost is samples x triangles: for small frames and tests.
+// sample's time. It shares the sample set, the camera ray and the watertight triangle test with
+// the patch rasterizer, and nothing else: no traversal, bounds, tile or hit-gathering code, so a
+// bug there cannot hide in both. It is the oracle the patch rasterizer is checked against sample
+// for sample. Cost is samples x triangles: for small frames and tests.
 
 #include <vector>
 
@@ -10,7 +11,7 @@
 #include "pipeline/core/ray.h"
 #include "pipeline/core/samples.h"
 #include "rasterizer/moving_mesh.h"
-#include "rasterizer/patch_rasterizer.h"
+#include "rasterizer/sample_tracer.h"
 
 namespace patchsim {
 

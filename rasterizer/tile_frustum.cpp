@@ -3,15 +3,11 @@
 #include <algorithm>
 #include <cmath>
 
+#include "rasterizer/conservative_margins.h"
+
 namespace patchsim {
 
 namespace {
-
-// Tiles are widened by this fraction of a pixel so rounding in the plane tests can never reject
-// a sample that lies exactly on the tile's edge.
-constexpr float kGuardPixels = 1.0f / 256.0f;
-// Crossing times are widened by this much for the same reason.
-constexpr float kTimeGuard = 1e-5f;
 
 // Outside when s-coordinate < edge (sign = -1, left/bottom) or > edge (sign = +1, right/top),
 // for rays leaving the lens at offset `lensOffset` along that axis.
@@ -26,7 +22,7 @@ Plane sidePlane(int axis, float sign, float edge, float lensOffset, float focus)
     return pl;
 }
 
-bool outsideAtBothEnds(const Plane& pl, const LBBox& box, bool motion, FrustumWork& work) {
+bool outsideAtBothEnds(const Plane& pl, const LBBox& box, bool motion, RasterWork& work) {
     ++work.planeTests;
     if (!(pl.distance(nVertex(box.bounds0, pl.n)) > 0)) return false;
     if (!motion) return true;
@@ -34,20 +30,19 @@ bool outsideAtBothEnds(const Plane& pl, const LBBox& box, bool motion, FrustumWo
     return pl.distance(nVertex(box.bounds1, pl.n)) > 0;
 }
 
-// Narrows [lo, hi] to where the n-vertex is inside the plane; false if never.
-bool insideInterval(const Plane& pl, const LBBox& box, float& lo, float& hi, FrustumWork& work) {
+// The times the n-vertex is inside the plane; false if never.
+bool insideInterval(const Plane& pl, const LBBox& box, TimeRange& inside, RasterWork& work) {
     work.planeTests += 2;
     const float d0 = pl.distance(nVertex(box.bounds0, pl.n));
     const float d1 = pl.distance(nVertex(box.bounds1, pl.n));
-    lo = 0.0f;
-    hi = 1.0f;
+    inside = TimeRange::shutter();
     if (d0 > 0 && d1 > 0) return false;
     if (d0 > 0) {  // moves from outside to inside
         ++work.timeIntervals;
-        lo = std::max(0.0f, d0 / (d0 - d1) - kTimeGuard);
+        inside.lower = std::max(0.0f, d0 / (d0 - d1) - kTimeGuard);
     } else if (d1 > 0) {  // moves from inside to outside
         ++work.timeIntervals;
-        hi = std::min(1.0f, d0 / (d0 - d1) + kTimeGuard);
+        inside.upper = std::min(1.0f, d0 / (d0 - d1) + kTimeGuard);
     }
     return true;
 }
@@ -57,10 +52,10 @@ bool insideInterval(const Plane& pl, const LBBox& box, float& lo, float& hi, Fru
 TileFrustum makeTileFrustum(const Camera& camera, const LensModel& lens, const TileRect& tile,
                             float farDepth) {
     TileFrustum f;
-    const Vec2 lo =
-        rasterToScreen(camera, {float(tile.x0) - kGuardPixels, float(tile.y1) + kGuardPixels});
-    const Vec2 hi =
-        rasterToScreen(camera, {float(tile.x1) + kGuardPixels, float(tile.y0) - kGuardPixels});
+    const Vec2 lo = rasterToScreen(
+        camera, {float(tile.x0) - kTileGuardPixels, float(tile.y1) + kTileGuardPixels});
+    const Vec2 hi = rasterToScreen(
+        camera, {float(tile.x1) + kTileGuardPixels, float(tile.y0) - kTileGuardPixels});
     const float edges[4] = {lo.x, hi.x, lo.y, hi.y};
     const float signs[4] = {-1, 1, -1, 1};
     const float focus = lens.radius > 0 ? lens.focusDistance : 0.0f;
@@ -80,7 +75,7 @@ TileFrustum makeTileFrustum(const Camera& camera, const LensModel& lens, const T
     return f;
 }
 
-bool overlapsFrustum(const TileFrustum& f, const LBBox& box, bool motion, FrustumWork& work) {
+bool overlapsFrustum(const TileFrustum& f, const LBBox& box, bool motion, RasterWork& work) {
     if (box.empty()) return false;
     for (int side = 0; side < 4; ++side) {
         bool outside = true;
@@ -95,23 +90,18 @@ bool overlapsFrustum(const TileFrustum& f, const LBBox& box, bool motion, Frustu
     return true;
 }
 
-bool leafTimeInterval(const TileFrustum& f, const LBBox& box, float& tmin, float& tmax,
-                      FrustumWork& work) {
+bool leafTimeInterval(const TileFrustum& f, const LBBox& box, TimeRange& times, RasterWork& work) {
     if (box.empty()) return false;
     auto narrow = [&](const Plane* planes, int count) {
         // Inside for some lens position along this side when inside either extreme plane: the
         // union of the two intervals, bounded by their hull.
-        float lo = 1.0f, hi = 0.0f;
+        TimeRange side = TimeRange::empty();
         for (int k = 0; k < count; ++k) {
-            float a, b;
-            if (insideInterval(planes[k], box, a, b, work)) {
-                lo = std::min(lo, a);
-                hi = std::max(hi, b);
-            }
+            TimeRange inside;
+            if (insideInterval(planes[k], box, inside, work)) side.extend(inside);
         }
-        tmin = std::max(tmin, lo);
-        tmax = std::min(tmax, hi);
-        return tmin <= tmax;
+        times.intersect(side);
+        return !times.isEmpty();
     };
     for (int side = 0; side < 4; ++side)
         if (!narrow(f.sides[side], f.planesPerSide)) return false;
@@ -122,7 +112,7 @@ bool leafTimeInterval(const TileFrustum& f, const LBBox& box, float& tmin, float
     return true;
 }
 
-bool insideNearFar(const TileFrustum& f, const LBBox& box, FrustumWork& work) {
+bool insideNearFar(const TileFrustum& f, const LBBox& box, RasterWork& work) {
     work.planeTests += 4;
     for (const Plane* pl : {&f.nearPlane, &f.farPlane}) {
         if (pl->distance(pVertex(box.bounds0, pl->n)) > 0) return false;

@@ -19,6 +19,9 @@
 #include "pipeline/core/camera.h"
 #include "pipeline/core/lbbox.h"
 #include "pipeline/core/ray.h"
+#include "pipeline/core/time_range.h"
+#include "rasterizer/raster_work.h"
+#include "rasterizer/tile_grid.h"
 
 namespace patchsim {
 
@@ -35,19 +38,9 @@ struct TileFrustum {
     bool testNearFar = true;
 };
 
-struct TileRect {
-    int x0, y0, x1, y1;  // pixels, [x0, x1) x [y0, y1)
-};
-
 // `farDepth` is the far plane's depth (the camera's, or the tile's z-buffer maximum).
 TileFrustum makeTileFrustum(const Camera& camera, const LensModel& lens, const TileRect& tile,
                             float farDepth);
-
-// Work done by frustum tests, counted by the caller.
-struct FrustumWork {
-    std::int64_t planeTests = 0;     // one n-vertex evaluation against one plane at one time
-    std::int64_t timeIntervals = 0;  // leaf plane crossings computed
-};
 
 // The corner of `box` that minimises n.p (the n-vertex).
 inline Vec3 nVertex(const Box3& box, const Vec3& n) {
@@ -59,17 +52,19 @@ inline Vec3 pVertex(const Box3& box, const Vec3& n) {
             n.z > 0 ? box.upper.z : box.lower.z};
 }
 
+// Tests count into `work.planeTests` (one box vertex against one plane at one time) and
+// `work.timeIntervals` (leaf plane crossings computed).
+
 // True unless the moving box is certainly outside the frustum at every time. `motion` false
 // tests the t=0 box only.
-bool overlapsFrustum(const TileFrustum& f, const LBBox& box, bool motion, FrustumWork& work);
+bool overlapsFrustum(const TileFrustum& f, const LBBox& box, bool motion, RasterWork& work);
 
-// The leaf test with time refinement: narrows [tmin, tmax] (start with [0, 1]) to the times the
-// moving box can be inside; false when outside at all times.
-bool leafTimeInterval(const TileFrustum& f, const LBBox& box, float& tmin, float& tmax,
-                      FrustumWork& work);
+// The leaf test with time refinement: narrows `times` (start with the whole shutter) to the times
+// the moving box can be inside; false when outside at all times.
+bool leafTimeInterval(const TileFrustum& f, const LBBox& box, TimeRange& times, RasterWork& work);
 
 // True when the whole moving box is inside the near and far planes at t=0 and t=1 (p-vertex
 // test): then only the four sides need testing.
-bool insideNearFar(const TileFrustum& f, const LBBox& box, FrustumWork& work);
+bool insideNearFar(const TileFrustum& f, const LBBox& box, RasterWork& work);
 
 }  // namespace patchsim

@@ -40,8 +40,8 @@ class NVertexTest : public TileTestVariant {
     std::string name() const override { return lens_ ? "lens-two-plane" : "pinhole-n-vertex"; }
     bool handlesDefocus() const override { return lens_; }
     TileTestOutput run(const TileTestInput& in) const override {
-        FrustumWork work;
-        return {overlapsFrustum(frustumFor(in), in.box, true, work), 0.0f, 1.0f};
+        RasterWork work;
+        return {overlapsFrustum(frustumFor(in), in.box, true, work), TimeRange::shutter()};
     }
 
   private:
@@ -56,9 +56,9 @@ class TimeIntervalTest : public TileTestVariant {
     }
     bool handlesDefocus() const override { return lens_; }
     TileTestOutput run(const TileTestInput& in) const override {
-        FrustumWork work;
+        RasterWork work;
         TileTestOutput out;
-        out.accept = leafTimeInterval(frustumFor(in), in.box, out.tmin, out.tmax, work);
+        out.accept = leafTimeInterval(frustumFor(in), in.box, out.times, work);
         return out;
     }
 
@@ -130,7 +130,7 @@ Truth groundTruth(const TileTestInput& in) {
                                           float(in.tile.y0) + float(in.tile.y1 - in.tile.y0) *
                                                                   float(sy) / (kScreen - 1));
                         const Ray ray =
-                            makeCameraRay(rasterToScreen(cam, raster), lens, t, in.lens);
+                            makeCameraRay(cam, rasterToScreen(cam, raster), lens, t, in.lens);
                         const double dpl = ray.depthPerLambda;
                         hitAtT = rayHitsBox(glm::dvec3(ray.origin), glm::dvec3(ray.direction), box,
                                             cam.nearPlane() / dpl, cam.farPlane() / dpl);
@@ -201,7 +201,7 @@ std::vector<TileTestReport> verifyTileTests(int cases, std::uint64_t seed) {
                 }
                 const bool timesCovered =
                     std::all_of(truth.hitTimes.begin(), truth.hitTimes.end(),
-                                [&](float t) { return t >= out.tmin && t <= out.tmax; });
+                                [&](float t) { return out.times.contains(t); });
                 if (!out.accept || !timesCovered) ++r.falseRejects;
             }
         }

@@ -18,6 +18,7 @@
 #include "pipeline/core/camera.h"
 #include "pipeline/core/lbbox.h"
 #include "pipeline/core/ray.h"
+#include "pipeline/core/time_range.h"
 #include "rasterizer/tile_frustum.h"
 
 namespace patchsim {
@@ -31,7 +32,7 @@ struct TileTestInput {
 
 struct TileTestOutput {
     bool accept = true;
-    float tmin = 0, tmax = 1;  // times the box may overlap the tile (when accepted)
+    TimeRange times = TimeRange::shutter();  // when the box may overlap the tile (if accepted)
 };
 
 // A tile test under verification. Variants register themselves with

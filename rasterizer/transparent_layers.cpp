@@ -2,6 +2,8 @@
 
 #include <cmath>
 
+#include "rasterizer/conservative_margins.h"
+
 namespace patchsim {
 
 TransparentLayers::TransparentLayers(std::size_t samples, int maxLayers)
@@ -30,7 +32,7 @@ bool TransparentLayers::offer(std::size_t sample, int pool, const LayerFragment&
     for (int i = 0; i < n; ++i) {
         LayerFragment& s = slots[i];
         const float tolerance =
-            1e-6f * std::max(std::abs(s.record.depth), std::abs(f.record.depth));
+            kSameSurfaceDepth * std::max(std::abs(s.record.depth), std::abs(f.record.depth));
         if (s.object == f.object && std::abs(s.record.depth - f.record.depth) <= tolerance) {
             if (f.record.nearerThan(s.record)) s = f;
             return true;

@@ -8,9 +8,9 @@
 // written by one worker only (pools follow the renderer's tile-row classes), so no locks are
 // needed and the layout does not depend on the thread count. When a sample's block is full, the
 // farthest fragment is dropped (counted as overflow), so the sample keeps its K nearest fragments
-// whatever order they arrive in. Fragments of the same object within a relative depth of 1e-6
-// are one surface seen twice (a ray through an edge that two triangles share): only the nearer in
-// (depth, patch, triangle) order is kept.
+// whatever order they arrive in. Fragments of the same object within a relative depth of
+// kSameSurfaceDepth are one surface seen twice (a ray through an edge that two triangles share):
+// only the nearer in (depth, patch, triangle) order is kept.
 
 #include <cstdint>
 #include <vector>

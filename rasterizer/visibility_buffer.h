@@ -4,14 +4,18 @@
 // Representation
 // --------------
 // One record per sample, pixel-major: sample s of pixel (x, y) is record (y * width + x) * spp + s.
-// A record is the nearest visibility sample so far: depth (camera -z), patch, triangle and the
-// barycentric weights of the triangle's vertices 1 and 2. Hits compare by (depth, patch,
-// triangle), so the buffer's final content does not depend on the order hits arrive in, and a
-// sample exactly on an edge shared by two triangles resolves the same way in every method.
+// A record is the nearest visibility sample so far (SPEC 4.8): depth (camera -z), patch, triangle,
+// the barycentric weights of the triangle's vertices 1 and 2, and the sample's time t and lens
+// position (u, v), so the back end shades it at its time without going back to the sample set.
+// 32 bytes. Hits compare by (depth, patch, triangle), so the buffer's final content does not
+// depend on the order hits arrive in, and a sample exactly on an edge shared by two triangles
+// resolves the same way in every method.
 
 #include <cstdint>
 #include <limits>
 #include <vector>
+
+#include "pipeline/core/math.h"
 
 namespace patchsim {
 
@@ -20,6 +24,8 @@ struct VisibilityRecord {
     std::int32_t patch = -1;
     std::uint32_t triangle = 0;
     float b1 = 0, b2 = 0;
+    float time = 0;         // shutter time of the sample
+    Vec2 lens{0.5f, 0.5f};  // lens sample in [0,1)^2; (0.5, 0.5) is the centre
 
     bool hit() const { return patch >= 0; }
     bool nearerThan(const VisibilityRecord& o) const {
@@ -28,6 +34,8 @@ struct VisibilityRecord {
         return triangle < o.triangle;
     }
 };
+
+static_assert(sizeof(VisibilityRecord) == 32, "the film's memory budget counts 32 bytes a sample");
 
 class VisibilityBuffer {
   public:

@@ -9,32 +9,26 @@
 
 namespace patchsim {
 
-PATCHSIM_COUNTER("HS/Patches", "patches", "Patches whose tessellation factors were computed",
-                 hsPatches);
-PATCHSIM_COUNTER("HS/Patches culled", "patches", "Patches culled by an edge factor <= 0 or NaN",
-                 hsCulled);
-PATCHSIM_COUNTER("HS/Edge factors", "factors", "Edge tessellation factors computed", hsEdgeFactors);
-PATCHSIM_COUNTER("TS/Domain points", "points", "Domain points emitted by the D3D11 tessellator",
-                 tsPoints);
-PATCHSIM_COUNTER("TS/Triangles", "triangles", "Triangles emitted by the D3D11 tessellator",
-                 tsTriangles);
-PATCHSIM_COUNTER(
-    "TS/Stitch points", "points",
-    "Points added on an edge where the neighbouring patch's fractional pattern differs "
-    "(an N-gon's half edges against a whole edge), so no T-junction remains",
-    tsStitchPoints);
-PATCHSIM_COUNTER(
-    "DS/Evaluations", "points",
-    "Domain points evaluated on the limit surface (one stencil, applied at t=0 and t=1)",
-    dsEvaluations);
-PATCHSIM_COUNTER("DS/Shared-edge evaluations", "points",
-                 "Domain points on an edge or corner shared with a lower-numbered patch, evaluated "
-                 "on that owner patch",
-                 dsOwnerEvaluations);
-PATCHSIM_COUNTER(
-    "DS/Stencil applications", "applications",
-    "Stencil weight sets applied to a control-point set (position, du, dv at both shutter ends)",
-    dsApplications);
+const Counter hsPatches{"HS/Patches", "patches",
+                "Patches whose tessellation factors were computed"};
+const Counter hsCulled{"HS/Patches culled", "patches",
+                "Patches culled by an edge factor <= 0 or NaN"};
+const Counter hsEdgeFactors{"HS/Edge factors", "factors",
+                "Edge tessellation factors computed"};
+const Counter tsPoints{"TS/Domain points", "points",
+                "Domain points emitted by the D3D11 tessellator"};
+const Counter tsTriangles{"TS/Triangles", "triangles",
+                "Triangles emitted by the D3D11 tessellator"};
+const Counter tsStitchPoints{"TS/Stitch points", "points",
+                "Points added on an edge where the neighbouring patch's fractional pattern differs "
+    "(an N-gon's half edges against a whole edge), so no T-junction remains"};
+const Counter dsEvaluations{"DS/Evaluations", "points",
+                "Domain points evaluated on the limit surface (one stencil, applied at t=0 and t=1)"};
+const Counter dsOwnerEvaluations{"DS/Shared-edge evaluations", "points",
+                "Domain points on an edge or corner shared with a lower-numbered patch, evaluated "
+                 "on that owner patch"};
+const Counter dsApplications{"DS/Stencil applications", "applications",
+                "Stencil weight sets applied to a control-point set (position, du, dv at both shutter ends)"};
 
 namespace {
 

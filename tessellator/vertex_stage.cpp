@@ -7,8 +7,8 @@
 
 namespace patchsim {
 
-PATCHSIM_COUNTER("VS/Control points", "points",
-                 "Cage control points transformed (both shutter ends count once)", vsControlPoints);
+const Counter vsControlPoints{"VS/Control points", "points",
+                "Cage control points transformed (both shutter ends count once)"};
 
 namespace {
 

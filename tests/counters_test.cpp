@@ -3,18 +3,20 @@
 #include <gtest/gtest.h>
 
 #include <fstream>
+#include <set>
 #include <sstream>
 #include <thread>
 
+#include "rasterizer/raster_work.h"
 #include "tests/test_paths.h"
-
-PATCHSIM_COUNTER("Test/Increments", "increments", "Counted by the counter test only",
-                 testIncrements);
-PATCHSIM_COUNTER_MAX("Test/Largest", "items", "Largest value seen by the counter test",
-                     testLargest);
 
 namespace patchsim {
 namespace {
+
+const Counter testIncrements{"Test/Increments", "increments", "Counted by the counter test only"};
+const Counter testLargest{"Test/Largest", "items", "Largest value seen by the counter test",
+                          CounterKind::Max};
+const RatioCounter testRatio{"Test/Ratio", "Largest per increment", testLargest, testIncrements};
 
 TEST(Counters, ThreadLocalCountsAddUpExactly) {
     CounterRegistry::instance().reset();
@@ -22,16 +24,60 @@ TEST(Counters, ThreadLocalCountsAddUpExactly) {
     for (int t = 0; t < 4; ++t) {
         threads.emplace_back([t] {
             for (int i = 0; i < 1000; ++i) ++testIncrements;
-            testLargest = std::max<std::int64_t>(testLargest, 10 * (t + 1));
+            testLargest.raiseTo(10 * (t + 1));
             flushThreadCounters();
         });
     }
     for (auto& t : threads) t.join();
     const CounterValues values = CounterRegistry::instance().snapshot();
-    EXPECT_EQ(values.at("Test/Increments"), 4000);
-    EXPECT_EQ(values.at("Test/Largest"), 40);
+    EXPECT_EQ(values[testIncrements], 4000);
+    EXPECT_EQ(values[testLargest], 40);
+    EXPECT_DOUBLE_EQ(values.ratio(testRatio), 0.01);
+    EXPECT_EQ(values.byName("Test/Increments"), 4000);
     CounterRegistry::instance().reset();
-    EXPECT_EQ(CounterRegistry::instance().snapshot().at("Test/Increments"), 0);
+    EXPECT_EQ(CounterRegistry::instance().snapshot()[testIncrements], 0);
+}
+
+TEST(Counters, AnotherProcessesCountsMergeAsSumsAndMaxima) {
+    CounterRegistry::instance().reset();
+    testIncrements += 5;
+    testLargest.raiseTo(7);
+    const CounterValues before = CounterRegistry::instance().snapshot();
+    testIncrements += 3;
+    testLargest.raiseTo(9);
+    const CounterValues delta = CounterRegistry::instance().snapshot().since(before);
+    EXPECT_EQ(delta[testIncrements], 3);
+    EXPECT_EQ(delta[testLargest], 9);
+    CounterRegistry::instance().merge(delta);
+    const CounterValues after = CounterRegistry::instance().snapshot();
+    EXPECT_EQ(after[testIncrements], 11);
+    EXPECT_EQ(after[testLargest], 9);
+    CounterRegistry::instance().reset();
+}
+
+// Each counter is defined in one place: one registration per name.
+TEST(Counters, EveryCounterIsRegisteredOnce) {
+    std::set<std::string> names;
+    for (const CounterInfo& info : CounterRegistry::instance().infos())
+        EXPECT_TRUE(names.insert(info.name).second) << info.name << " is registered twice";
+}
+
+TEST(Counters, RasterWorkAddsAndFlushesEveryCountOnce) {
+    CounterRegistry::instance().reset();
+    RasterWork a, b;
+    a.raysCast = 3;
+    b.raysCast = 4;
+    a.peakHierarchyBytes = 100;
+    b.peakHierarchyBytes = 60;
+    a.add(b);
+    EXPECT_EQ(a.raysCast, 7);
+    EXPECT_EQ(a.peakHierarchyBytes, 100);  // a Max count keeps the larger
+    a.flush();
+    a.flush();
+    const CounterValues values = CounterRegistry::instance().snapshot();
+    EXPECT_EQ(values[rasterCounters().raysCast], 14);
+    EXPECT_EQ(values[rasterCounters().peakHierarchyBytes], 100);
+    CounterRegistry::instance().reset();
 }
 
 TEST(Counters, EveryPipelineCounterIsDocumented) {
@@ -45,6 +91,8 @@ TEST(Counters, EveryPipelineCounterIsDocumented) {
         EXPECT_NE(text.str().find("`" + name + "`"), std::string::npos)
             << name << " is not in docs/COUNTERS.md";
     }
+    EXPECT_NE(text.str().find("`" + std::string(sampleTestEfficiency().name) + "`"),
+              std::string::npos);
 }
 
 }  // namespace

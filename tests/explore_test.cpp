@@ -31,22 +31,25 @@ TEST(Explore, GridCrossProductAndRows) {
     const std::vector<ExploreJob> jobs = exploreJobs(2, grid);
     EXPECT_EQ(jobs.size(), 2u * 2 * 2 * 2);
     const std::vector<SceneDesc> scenes = {readSceneFile(test::sourcePath("scenes/motion.json"))};
-    const std::vector<std::string> rows =
-        runExploreJob(scenes, grid, defaultHardwareConfig(), jobs[1], 1);
+    const std::vector<ExploreRow> rows = runExploreJob(scenes, grid, defaultHardwareConfig(), 1, 1);
     ASSERT_EQ(rows.size(), 3u);  // one per RS.units value
     const std::string header = exploreCsvHeader(grid);
     EXPECT_EQ(std::count(header.begin(), header.end(), ','),
-              std::count(rows[0].begin(), rows[0].end(), ','));
-    EXPECT_EQ(rows[0].rfind(scenes[0].path + ",4,root,false,1,", 0), 0u) << rows[0];
+              std::count(rows[0].csv.begin(), rows[0].csv.end(), ','));
+    EXPECT_EQ(rows[0].csv.rfind(scenes[0].path + ",4,root,false,1,", 0), 0u) << rows[0].csv;
+    EXPECT_EQ(rows[2].choice, (std::vector<std::size_t>{0, 0, 1, 2}));
     // More rasterizer units: fewer cycles for the same counted work (the rasterizer is this
     // frame's bottleneck, so doubling it must show).
-    auto cycles = [](const std::string& row) {
-        std::size_t pos = 0;
-        for (int i = 0; i < 5; ++i) pos = row.find(',', pos) + 1;
-        return std::stod(row.substr(pos));
-    };
-    EXPECT_GT(cycles(rows[0]), cycles(rows[1]));
-    EXPECT_GT(cycles(rows[1]), cycles(rows[2]));
+    EXPECT_GT(rows[0].totalCycles, rows[1].totalCycles);
+    EXPECT_GT(rows[1].totalCycles, rows[2].totalCycles);
+    // Rows travel between MPI ranks as they are.
+    const std::vector<ExploreRow> back = unpackExploreRows(packExploreRows(rows));
+    ASSERT_EQ(back.size(), rows.size());
+    for (std::size_t i = 0; i < rows.size(); ++i) {
+        EXPECT_EQ(back[i].csv, rows[i].csv);
+        EXPECT_EQ(back[i].choice, rows[i].choice);
+        EXPECT_EQ(back[i].job, rows[i].job);
+    }
 }
 
 TEST(Explore, GridErrorsNameTheField) {
@@ -86,8 +89,8 @@ TEST(Explore, GridValuesAreCheckedLikeTheSceneAndHardwareFiles) {
 }
 
 TEST(Explore, GridFilmIsHeldToTheMemoryBudget) {
-    const ExploreGrid grid =
-        parseExploreGrid(R"({"film": {"width": 16384, "height": 16384, "spp": 4096}})", "grid.json");
+    const ExploreGrid grid = parseExploreGrid(
+        R"({"film": {"width": 16384, "height": 16384, "spp": 4096}})", "grid.json");
     const std::vector<SceneDesc> scenes = {readSceneFile(test::sourcePath("scenes/motion.json"))};
     try {
         jobScene(scenes, grid, exploreJobs(1, grid)[0], SceneLimits{});

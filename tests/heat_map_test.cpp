@@ -2,9 +2,8 @@
 
 #include <gtest/gtest.h>
 
-#include <filesystem>
-
 #include <algorithm>
+#include <filesystem>
 #include <limits>
 
 #include "backend/image.h"
@@ -44,13 +43,17 @@ TEST(HeatMap, WritesTheMapWithALegendBelow) {
 }
 
 TEST(HeatMap, FrameWorkGivesPixelAndTileMaps) {
-    PixelWork work(16, 8, 8);
-    work.samplesTested.assign(work.samplesTested.size(), 4);
-    work.visibilitySamples.assign(work.visibilitySamples.size(), 1);
+    PixelCounters pixels(TileGrid{16, 8, 8});
+    RasterWork before, after;
+    after.samplesTested = 4;
+    after.visibilitySamples = 1;
+    for (int y = 0; y < 8; ++y)
+        for (int x = 0; x < 16; ++x) pixels.record(x, y, before, after);
+    EXPECT_EQ(pixels.values(pixelQuantity("samples_tested"))[pixels.pixel(3, 5)], 4u);
     const std::string dir = test::temporaryDirectory();
     OutputSet outputs;
-    const std::vector<std::string> files = writeHeatMaps(work, dir, outputs);
-    EXPECT_EQ(files.size(), 11u);
+    const std::vector<std::string> files = writeHeatMaps(pixels, dir, outputs);
+    EXPECT_EQ(files.size(), 2 * kPixelQuantities.size() + 3);  // and STE pixel/tile, tile tests
     for (const std::string& f : files) EXPECT_FALSE(std::filesystem::exists(f)) << "before commit";
     outputs.commit();
     for (const std::string& f : files) EXPECT_TRUE(std::filesystem::exists(f)) << f;

@@ -10,6 +10,7 @@
 #include "pipeline/core/counters.h"
 #include "pipeline/core/scene_reader.h"
 #include "pipeline/driver/render.h"
+#include "rasterizer/raster_work.h"
 #include "tests/test_paths.h"
 
 namespace patchsim {
@@ -102,7 +103,8 @@ TEST(Resolve, LayerOverflowIsCountedAndKeepsTheNearest) {
     options.maxLayers = 1;
     CounterRegistry::instance().reset();
     const RenderResult r = renderScene(scene, options);
-    EXPECT_EQ(CounterRegistry::instance().snapshot().at("OM/Transparent overflow"), 24 * 16 * 4);
+    EXPECT_EQ(CounterRegistry::instance().snapshot()[rasterCounters().transparentOverflow],
+              24 * 16 * 4);
     // Only the nearest (green, at z = 2) is kept over the opaque quad.
     const Vec3 c = r.frame.color.get(3, 3);
     EXPECT_NEAR(c.x, 0.5f * 0.2f, 1e-6f);
@@ -152,10 +154,10 @@ TEST(Resolve, PerPixelPrimitiveShadingReusesColours) {
     CounterRegistry::instance().reset();
     renderScene(scene, options);
     const CounterValues perPixel = CounterRegistry::instance().snapshot();
-    EXPECT_EQ(perFragment.at("PS/Reused"), 0);
-    EXPECT_GT(perPixel.at("PS/Reused"), 0);
-    EXPECT_EQ(perPixel.at("PS/Invocations") + perPixel.at("PS/Reused"),
-              perFragment.at("PS/Invocations"));
+    const ShadingCounters& ps = shadingCounters();
+    EXPECT_EQ(perFragment[ps.reused], 0);
+    EXPECT_GT(perPixel[ps.reused], 0);
+    EXPECT_EQ(perPixel[ps.invocations] + perPixel[ps.reused], perFragment[ps.invocations]);
 }
 
 // Nothing moves but the material changes over the shutter: samples need times, and each pixel is
@@ -203,7 +205,7 @@ TEST(Resolve, ShadingUsesTheCameraAtTheSampleTime) {
     a.normal = {0, 0, 1};
     a.color = {1, 1, 1};
     a.surfaceUV = {0.01f, 0.01f};
-    const ShadingContext context{&fe, nullptr, nullptr, &camera, nullptr};
+    const ShadingContext context{&fe, nullptr, nullptr, &camera};
     const float t = 0.3f;
     const CameraKey k{lerp(scene.camera.open.position, scene.camera.close.position, t),
                       lerp(scene.camera.open.lookAt, scene.camera.close.lookAt, t),

@@ -21,7 +21,7 @@ class AlwaysReject : public TileTestVariant {
   public:
     std::string name() const override { return "always-reject"; }
     bool handlesDefocus() const override { return false; }
-    TileTestOutput run(const TileTestInput&) const override { return {false, 0, 1}; }
+    TileTestOutput run(const TileTestInput&) const override { return {false, {}}; }
 };
 
 TEST(TileTestVerifier, CatchesATestThatRejectsOverlaps) {

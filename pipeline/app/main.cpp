@@ -14,9 +14,9 @@
 #include "pipeline/app/mpi_context.h"
 #include "pipeline/core/error.h"
 #include "pipeline/core/hardware_config.h"
-#include "pipeline/core/scene_reader.h"
 #include "pipeline/core/output_set.h"
 #include "pipeline/core/rasterizer_options.h"
+#include "pipeline/core/scene_reader.h"
 #include "pipeline/core/text_file.h"
 #include "pipeline/driver/explore.h"
 #include "pipeline/driver/render.h"
@@ -68,7 +68,8 @@ const CLI::Validator kBudgetMiB = CLI::Range(std::uint64_t(1), kMaxMemoryBudgetM
 void addCommonOptions(CLI::App& cmd, CommonOptions& common, bool effects) {
     cmd.add_option("scene", common.scene,
                    "Scene JSON file, or an OBJ cage to view alone (default: the built-in scene)");
-    cmd.add_option("--threads", common.threads, "Worker threads (0: all cores)")->check(kThreadCount);
+    cmd.add_option("--threads", common.threads, "Worker threads (0: all cores)")
+        ->check(kThreadCount);
     cmd.add_option("--memory-budget-mib", common.memoryBudgetMiB,
                    "Largest film the scene may ask for, in MiB of per-sample state")
         ->check(kBudgetMiB);
@@ -201,30 +202,26 @@ int runRender(const RenderCommand& r) {
     writeExrWithAovs(result.frame, outputs.file(exr, "-o"));
     writePng(result.frame.color, outputs.file(png, "-o"));
     std::vector<std::string> heatMaps;
-    if (result.pixelWork) heatMaps = writeHeatMaps(*result.pixelWork, r.outputDir, outputs);
-    const std::int64_t tested = counters.at("RS/Samples tested");
-    const double ste = tested ? double(counters.at("RS/Visibility samples")) / double(tested) : 0.0;
-    const std::int64_t shaded = counters.at("PS/Invocations"), reused = counters.at("PS/Reused");
+    if (result.pixels) heatMaps = writeHeatMaps(*result.pixels, r.outputDir, outputs);
+    const double ste = counters.ratio(sampleTestEfficiency());
     StatsContext context{"render", scene.path, {}, &timing};
-    context.facts = {
-        {"method", visibilityMethodName(options.method)},
-        {"mode", describeMode(result.effects)},
-        {"width", std::to_string(scene.film.width)},
-        {"height", std::to_string(scene.film.height)},
-        {"spp", std::to_string(scene.film.samplesPerPixel)},
-        {"patches", std::to_string(result.patches)},
-        {"triangles", std::to_string(result.triangles)},
-        {"sample test efficiency", std::to_string(ste)},
-        {"shading rate", shadingRateName(options.resolve.shadingRate)},
-        {"shading reuse rate",
-         std::to_string(shaded + reused ? double(reused) / double(shaded + reused) : 0.0)},
-        {"filter", resolveFilterName(options.resolve.filter)},
-        {"max layers", std::to_string(options.maxLayers)},
-        {"tile size", std::to_string(o.tileSize)},
-        {"leaf size", std::to_string(o.leafSize)},
-        {"branch method", branchMethodName(o.branchMethod)},
-        {"time refinement", o.timeRefinement ? "on" : "off"},
-        {"z culling", o.zCulling ? "on" : "off"}};
+    context.facts = {{"method", visibilityMethodName(options.method)},
+                     {"mode", describeMode(result.effects)},
+                     {"width", std::to_string(scene.film.width)},
+                     {"height", std::to_string(scene.film.height)},
+                     {"spp", std::to_string(scene.film.samplesPerPixel)},
+                     {"patches", std::to_string(result.patches)},
+                     {"triangles", std::to_string(result.triangles)},
+                     {"sample test efficiency", std::to_string(ste)},
+                     {"shading rate", shadingRateName(options.resolve.shadingRate)},
+                     {"shading reuse rate", std::to_string(shadingReuseRate(counters))},
+                     {"filter", resolveFilterName(options.resolve.filter)},
+                     {"max layers", std::to_string(options.maxLayers)},
+                     {"tile size", std::to_string(o.tileSize)},
+                     {"leaf size", std::to_string(o.leafSize)},
+                     {"branch method", branchMethodName(o.branchMethod)},
+                     {"time refinement", o.timeRefinement ? "on" : "off"},
+                     {"z culling", o.zCulling ? "on" : "off"}};
     context.facts.push_back(
         {"hardware", r.hardware.empty() ? "builtin:hw/default.json" : r.hardware});
     writeStats(outputs, stats, "-o", context);
@@ -267,14 +264,14 @@ int runExplore(const ExploreCommand& e, const MpiContext& mpi) {
     const std::size_t jobs = exploreJobs(scenes.size(), grid).size();
     // Jobs are dealt round-robin over ranks; each rank tags its rows with the job number. A job
     // that fails on one rank must not leave the others waiting: every rank reports, then all stop.
-    std::string mine;
+    std::vector<ExploreRow> mine;
     std::exception_ptr failure;
     try {
         runExploreJobs(
             scenes, grid, hardware, mpi.threadsPerRank(e.threads), limits,
             [&](std::size_t j) { return int(j % std::size_t(mpi.size())) == mpi.rank(); },
-            [&](std::size_t j, const std::vector<std::string>& rows) {
-                for (const std::string& row : rows) mine += std::to_string(j) + "\t" + row + "\n";
+            [&](std::size_t j, const std::vector<ExploreRow>& rows) {
+                mine.insert(mine.end(), rows.begin(), rows.end());
                 if (mpi.rank() == 0)
                     std::cerr << "explore: job " << j + 1 << " of " << jobs << " done\n";
             });
@@ -285,24 +282,20 @@ int runExplore(const ExploreCommand& e, const MpiContext& mpi) {
         if (failure) std::rethrow_exception(failure);
         return 2;  // another rank failed and printed why
     }
-    const std::vector<std::string> parts = mpi.gather(mine);
+    const std::vector<std::string> parts = mpi.gather(packExploreRows(mine));
     if (mpi.rank() != 0) return 0;
-    std::vector<std::pair<std::size_t, std::string>> rows;
+    std::vector<ExploreRow> rows;
     for (const std::string& part : parts) {
-        std::istringstream in(part);
-        std::string line;
-        while (std::getline(in, line)) {
-            const auto tab = line.find('\t');
-            rows.push_back({std::stoul(line.substr(0, tab)), line.substr(tab + 1)});
-        }
+        const std::vector<ExploreRow> theirs = unpackExploreRows(part);
+        rows.insert(rows.end(), theirs.begin(), theirs.end());
     }
     std::stable_sort(rows.begin(), rows.end(),
-                     [](const auto& a, const auto& b) { return a.first < b.first; });
+                     [](const ExploreRow& a, const ExploreRow& b) { return a.job < b.job; });
     std::string csv = exploreCsvHeader(grid) + "\n";
-    for (const auto& [job, row] : rows) csv += row + "\n";
+    for (const ExploreRow& row : rows) csv += row.csv + "\n";
     outputs.writeText(e.output, "-o", [&](std::ostream& out) { out << csv; });
     std::vector<std::string> plots;
-    if (!e.plots.empty()) plots = writeExplorePlots(csv, grid, e.plots, outputs);
+    if (!e.plots.empty()) plots = writeExplorePlots(rows, grid, e.plots, outputs);
     outputs.commit();
     std::cout << "wrote " << e.output << ": " << rows.size() << " points (" << jobs << " renders"
               << (mpi.active() ? " over " + std::to_string(mpi.size()) + " MPI ranks"

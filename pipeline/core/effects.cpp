@@ -11,7 +11,8 @@ Effects detectEffects(const SceneDesc& scene, bool geometryMoves, bool cameraMov
         const MaterialDesc& m = o.material;
         e.transparency = e.transparency || m.opacity < 1.0f || m.closeOpacity < 1.0f;
         e.shadingVaries =
-            e.shadingVaries || (shutterOpens && (m.color != m.closeColor || m.opacity != m.closeOpacity));
+            e.shadingVaries ||
+            (shutterOpens && (m.color != m.closeColor || m.opacity != m.closeOpacity));
     }
     return e;
 }
@@ -24,10 +25,11 @@ Effects applyOverrides(Effects e, const EffectOverrides& o) {
 }
 
 std::string describeMode(const Effects& e) {
-    std::string mode = e.motion          ? "motion (moving boxes, time intervals, t per sample)"
-                       : e.shadingVaries ? "static geometry (static boxes, no time intervals), "
-                                           "shading over time (t per sample)"
-                                         : "static (static boxes, no time intervals, no t in samples)";
+    std::string mode = e.motion ? "motion (moving boxes, time intervals, t per sample)"
+                       : e.shadingVaries
+                           ? "static geometry (static boxes, no time intervals), "
+                             "shading over time (t per sample)"
+                           : "static (static boxes, no time intervals, no t in samples)";
     mode += e.defocus ? "; defocus (lens u,v per sample, two planes per tile side)"
                       : "; pinhole (no lens samples, four side planes)";
     mode += e.transparency ? "; transparency (every hit kept, sorted and blended)"

@@ -64,8 +64,10 @@ double checked(const Json& j, const Range& range, const std::string& source,
 }
 
 void readStage(ObjectReader r, StageConfig& s, Stage stage) {
-    if (const Json* j = r.find("units")) s.units = int(checked(*j, kUnits, r.file(), r.fieldName("units")));
-    if (const Json* j = r.find("latency")) s.latency = checked(*j, kLatency, r.file(), r.fieldName("latency"));
+    if (const Json* j = r.find("units"))
+        s.units = int(checked(*j, kUnits, r.file(), r.fieldName("units")));
+    if (const Json* j = r.find("latency"))
+        s.latency = checked(*j, kLatency, r.file(), r.fieldName("latency"));
     if (const Json* j = r.find("fifo_depth"))
         s.fifoDepth = int(checked(*j, kFifoDepth, r.file(), r.fieldName("fifo_depth")));
     if (auto t = r.object("throughput")) {

@@ -62,8 +62,7 @@ std::string OutputSet::file(const std::string& path, const std::string& field) {
     std::error_code ec;
     const fs::path p(path);
     if (path.empty()) throw InputError(path, field, "empty output file name");
-    if (fs::is_directory(p, ec))
-        throw InputError(path, field, "is a folder; give a file name");
+    if (fs::is_directory(p, ec)) throw InputError(path, field, "is a folder; give a file name");
     const fs::path dir = p.has_parent_path() ? p.parent_path() : fs::path(".");
     if (!fs::exists(dir, ec))
         throw InputError(path, field, "folder " + quoted(dir) + " does not exist");
@@ -96,7 +95,9 @@ void OutputSet::commit() {
     for (const Entry& e : files_) {
         std::error_code ec;
         fs::rename(e.temporary, e.path, ec);
-        if (ec) throw InputError(e.path, "", "cannot move the finished file into place: " + ec.message());
+        if (ec)
+            throw InputError(e.path, "",
+                             "cannot move the finished file into place: " + ec.message());
     }
     committed_ = true;
 }

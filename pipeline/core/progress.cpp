@@ -47,8 +47,7 @@ void Progress::draw(bool final) {
     std::fprintf(stderr, "\r%s [%s] %3d%%  %lld/%lld %s  %s %.1f s%s", label_.c_str(), bar,
                  int(fraction * 100.0), static_cast<long long>(done / unitsPerItem_),
                  static_cast<long long>(total_ / unitsPerItem_), items_.c_str(),
-                 final ? "took" : "left",
-                 final ? elapsed : left, final ? "\n" : "  ");
+                 final ? "took" : "left", final ? elapsed : left, final ? "\n" : "  ");
     std::fflush(stderr);
 }
 

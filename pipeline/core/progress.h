@@ -1,7 +1,7 @@
 #pragma once
 // A progress bar on standard error for long jobs: work done, the items behind it (patches, rows,
-// runs), and an estimate of the time left. Silent unless standard error is a terminal, and never printed more
-// than ten times a second; safe to advance from several threads.
+// runs), and an estimate of the time left. Silent unless standard error is a terminal, and never
+// printed more than ten times a second; safe to advance from several threads.
 
 #include <atomic>
 #include <chrono>

@@ -58,9 +58,10 @@ std::string integerIn(const Json& j, int lo, int hi, int& out) {
     if (!j.is_number_integer())
         return "expected an integer in [" + std::to_string(lo) + ", " + std::to_string(hi) +
                "], found " + describe(j);
-    const auto v = j.is_number_unsigned() ? std::int64_t(std::min<std::uint64_t>(
-                                                j.get<std::uint64_t>(), std::uint64_t(1) << 62))
-                                          : j.get<std::int64_t>();
+    const auto v =
+        j.is_number_unsigned()
+            ? std::int64_t(std::min<std::uint64_t>(j.get<std::uint64_t>(), std::uint64_t(1) << 62))
+            : j.get<std::int64_t>();
     if (v < lo || v > hi)
         return "value " + std::to_string(v) + " is outside [" + std::to_string(lo) + ", " +
                std::to_string(hi) + "]";

@@ -4,7 +4,11 @@
 // A sample's ray starts at its lens point (x, y, 0) and passes through the sample's point on the
 // plane in focus (depth F); without defocus it starts at the pinhole with direction (sx, sy, -1),
 // where (sx, sy) is the sample's position on the z = -1 plane. Depth along the view axis is then
-// `lambda * depthPerLambda`, so a z-buffer depth converts to a ray parameter with one divide.
+// `lambda * depthPerLambda`, so a z-buffer depth converts to a ray parameter with one divide. A
+// ray carries the range of its parameter it may hit in, [lambdaMin, lambdaMax] (Embree's tnear
+// and tfar), which z culling and nearer hits shrink.
+
+#include <limits>
 
 #include "pipeline/core/camera.h"
 #include "pipeline/core/math.h"
@@ -16,6 +20,8 @@ struct Ray {
     Vec3 direction;
     float time = 0;
     float depthPerLambda = 1;  // -direction.z
+    float lambdaMin = 0;
+    float lambdaMax = std::numeric_limits<float>::infinity();
 };
 
 struct LensModel {
@@ -31,8 +37,10 @@ inline Vec2 rasterToScreen(const Camera& camera, Vec2 raster) {
     return {sx, sy};
 }
 
-// `lensDisk` is the lens sample already mapped to the unit disk.
-inline Ray makeCameraRay(Vec2 screen, Vec2 lensDisk, float time, const LensModel& lens) {
+// `lensDisk` is the lens sample already mapped to the unit disk. The ray's range is the camera's
+// near to far plane.
+inline Ray makeCameraRay(const Camera& camera, Vec2 screen, Vec2 lensDisk, float time,
+                         const LensModel& lens) {
     Ray ray;
     ray.time = time;
     if (lens.radius > 0) {
@@ -46,6 +54,8 @@ inline Ray makeCameraRay(Vec2 screen, Vec2 lensDisk, float time, const LensModel
         ray.direction = Vec3(screen, -1.0f);
         ray.depthPerLambda = 1.0f;
     }
+    ray.lambdaMin = camera.nearPlane() / ray.depthPerLambda;
+    ray.lambdaMax = camera.farPlane() / ray.depthPerLambda;
     return ray;
 }
 

@@ -8,8 +8,8 @@
 // jittered grid when n is a square (Latin hypercube otherwise), and t and the lens (u, v) each on
 // their own shuffled stratification (Latin hypercube), so every dimension is evenly covered and
 // the dimensions are decorrelated. Dimensions the scene does not call for are fixed: t = 0 when
-// nothing varies over the shutter, (u, v) = lens centre without defocus. Lens (u, v) in [0,1)^2 maps to the disk with
-// Shirley's concentric mapping.
+// nothing varies over the shutter, (u, v) = lens centre without defocus. Lens (u, v) in [0,1)^2
+// maps to the disk with Shirley's concentric mapping.
 
 #include <cstdint>
 

@@ -14,6 +14,7 @@
 #include "pipeline/core/rasterizer_options.h"
 #include "pipeline/driver/render.h"
 #include "pipeline/driver/timing_model.h"
+#include "rasterizer/raster_work.h"
 
 namespace patchsim {
 
@@ -139,42 +140,74 @@ std::string exploreCsvHeader(const ExploreGrid& grid) {
     for (const GridAxis& a : grid.hardwareAxes) header.append(",").append(a.name);
     header +=
         ",total_cycles,microseconds,bottleneck,sample_test_efficiency,patches_over_scratch_budget";
-    for (const auto& [name, value] : CounterRegistry::instance().snapshot())
+    for (const auto& [name, value] : CounterRegistry::instance().snapshot().byName())
         header.append(",").append(name);
     return header;
 }
 
-std::vector<std::string> runExploreJob(const std::vector<SceneDesc>& scenes,
-                                       const ExploreGrid& grid, const HardwareConfig& baseHardware,
-                                       const ExploreJob& job, int threads,
-                                       const SceneLimits& limits) {
+std::vector<ExploreRow> runExploreJob(const std::vector<SceneDesc>& scenes, const ExploreGrid& grid,
+                                      const HardwareConfig& baseHardware, std::size_t jobIndex,
+                                      int threads, const SceneLimits& limits) {
+    const ExploreJob job = exploreJobs(scenes.size(), grid)[jobIndex];
     const SceneDesc scene = jobScene(scenes, grid, job, limits);
     RenderOptions options;
     options.threads = threads;
     CounterRegistry::instance().reset();
     const RenderResult result = renderScene(scene, options);
     const CounterValues counters = CounterRegistry::instance().snapshot();
-    const std::int64_t tested = counters.at("RS/Samples tested");
-    const double ste = tested ? double(counters.at("RS/Visibility samples")) / double(tested) : 0.0;
+    const double ste = counters.ratio(sampleTestEfficiency());
     std::string prefix = csvField(scene.path);
     for (std::size_t a = 0; a < grid.rasterAxes.size(); ++a)
         prefix.append(",").append(grid.rasterAxes[a].values[job.rasterChoice[a]]);
-    std::vector<std::string> rows;
+    std::vector<ExploreRow> rows;
     for (const auto& choice : crossProduct(grid.hardwareAxes)) {
         HardwareConfig hw = baseHardware;
-        std::string row = prefix;
+        ExploreRow row{jobIndex, job.rasterChoice, 0, prefix};
         for (std::size_t a = 0; a < grid.hardwareAxes.size(); ++a) {
             const GridAxis& axis = grid.hardwareAxes[a];
             setHardwareParameter(hw, axis.name, axis.json[choice[a]], grid.path, axis.name);
-            row.append(",").append(axis.values[choice[a]]);
+            row.csv.append(",").append(axis.values[choice[a]]);
+            row.choice.push_back(choice[a]);
         }
         const TimingReport t = simulateTiming(result.patchOps, hw);
+        row.totalCycles = t.totalCycles;
         for (const std::string& field :
              {formatNumber(t.totalCycles), formatNumber(t.microseconds()),
               std::string(t.bottleneckName()), formatNumber(ste),
               std::to_string(t.patchesOverBudget)})
-            row.append(",").append(field);
-        for (const auto& [name, value] : counters) row.append(",").append(std::to_string(value));
+            row.csv.append(",").append(field);
+        for (const auto& [name, value] : counters.byName())
+            row.csv.append(",").append(std::to_string(value));
+        rows.push_back(std::move(row));
+    }
+    return rows;
+}
+
+std::string packExploreRows(const std::vector<ExploreRow>& rows) {
+    constexpr char kUnit = '\x1f';
+    std::string text;
+    for (const ExploreRow& r : rows) {
+        text += std::to_string(r.job) + kUnit + formatNumber(r.totalCycles) + kUnit;
+        for (std::size_t c : r.choice) text += std::to_string(c) + ' ';
+        text += kUnit + r.csv + '\n';
+    }
+    return text;
+}
+
+std::vector<ExploreRow> unpackExploreRows(const std::string& text) {
+    std::vector<ExploreRow> rows;
+    std::istringstream lines(text);
+    std::string line;
+    while (std::getline(lines, line)) {
+        std::istringstream fields(line);
+        std::string job, cycles, choice, csv;
+        std::getline(fields, job, '\x1f');
+        std::getline(fields, cycles, '\x1f');
+        std::getline(fields, choice, '\x1f');
+        std::getline(fields, csv);
+        ExploreRow row{std::stoul(job), {}, std::strtod(cycles.c_str(), nullptr), csv};
+        std::istringstream indices(choice);
+        for (std::size_t c; indices >> c;) row.choice.push_back(c);
         rows.push_back(std::move(row));
     }
     return rows;
@@ -183,41 +216,23 @@ std::vector<std::string> runExploreJob(const std::vector<SceneDesc>& scenes,
 void runExploreJobs(const std::vector<SceneDesc>& scenes, const ExploreGrid& grid,
                     const HardwareConfig& baseHardware, int threads, const SceneLimits& limits,
                     const std::function<bool(std::size_t)>& mine,
-                    const std::function<void(std::size_t, const std::vector<std::string>&)>& emit) {
+                    const std::function<void(std::size_t, const std::vector<ExploreRow>&)>& emit) {
     const std::vector<ExploreJob> jobs = exploreJobs(scenes.size(), grid);
     for (const ExploreJob& job : jobs) jobScene(scenes, grid, job, limits);
     for (std::size_t j = 0; j < jobs.size(); ++j)
-        if (mine(j)) emit(j, runExploreJob(scenes, grid, baseHardware, jobs[j], threads, limits));
+        if (mine(j)) emit(j, runExploreJob(scenes, grid, baseHardware, j, threads, limits));
 }
 
-std::vector<std::string> writeExplorePlots(const std::string& csvText, const ExploreGrid& grid,
-                                           const std::string& dir, OutputSet& outputs) {
-    std::istringstream in(csvText);
-    std::string line;
-    std::getline(in, line);
-    auto split = [](const std::string& s) {
-        std::vector<std::string> fields;
-        std::stringstream ss(s);
-        std::string f;
-        while (std::getline(ss, f, ',')) fields.push_back(f);
-        return fields;
-    };
-    const std::vector<std::string> header = split(line);
-    std::vector<std::vector<std::string>> rows;
-    while (std::getline(in, line))
-        if (!line.empty()) rows.push_back(split(line));
-    const auto column = [&](const std::string& name) {
-        return std::size_t(std::find(header.begin(), header.end(), name) - header.begin());
-    };
-    const std::size_t cyclesColumn = column("total_cycles");
+std::vector<std::string> writeExplorePlots(const std::vector<ExploreRow>& rows,
+                                           const ExploreGrid& grid, const std::string& dir,
+                                           OutputSet& outputs) {
     double maxCycles = 1;
-    for (const auto& r : rows)
-        maxCycles = std::max(maxCycles, std::strtod(r[cyclesColumn].c_str(), nullptr));
+    for (const ExploreRow& r : rows) maxCycles = std::max(maxCycles, r.totalCycles);
     std::vector<GridAxis> axes = grid.rasterAxes;
     axes.insert(axes.end(), grid.hardwareAxes.begin(), grid.hardwareAxes.end());
     std::vector<std::string> written;
-    for (const GridAxis& axis : axes) {
-        const std::size_t c = column(axis.name);
+    for (std::size_t axisIndex = 0; axisIndex < axes.size(); ++axisIndex) {
+        const GridAxis& axis = axes[axisIndex];
         constexpr double kW = 520, kH = 340, kLeft = 90, kRight = 20, kTop = 40, kBottom = 60;
         const double plotW = kW - kLeft - kRight, plotH = kH - kTop - kBottom;
         auto xOf = [&](std::size_t i) {
@@ -243,11 +258,9 @@ std::vector<std::string> writeExplorePlots(const std::string& csvText, const Exp
         }
         std::vector<double> sum(axis.values.size(), 0.0);
         std::vector<int> count(axis.values.size(), 0);
-        for (const auto& r : rows) {
-            const auto it = std::find(axis.values.begin(), axis.values.end(), r[c]);
-            if (it == axis.values.end()) continue;
-            const std::size_t i = std::size_t(it - axis.values.begin());
-            const double cycles = std::strtod(r[cyclesColumn].c_str(), nullptr);
+        for (const ExploreRow& r : rows) {
+            const std::size_t i = r.choice[axisIndex];
+            const double cycles = r.totalCycles;
             sum[i] += cycles;
             ++count[i];
             svg << "<circle cx='" << xOf(i) << "' cy='" << yOf(cycles)

@@ -23,7 +23,7 @@ namespace patchsim {
 struct GridAxis {
     std::string name;  // "tile_size", "RS.units", ...
     bool hardware = false;
-    std::vector<std::string> values;  // as written in the CSV (numbers or names)
+    std::vector<std::string> values;   // as written in the CSV (numbers or names)
     std::vector<nlohmann::json> json;  // as given in the grid file
 };
 
@@ -50,11 +50,24 @@ struct ExploreJob {
 
 std::vector<ExploreJob> exploreJobs(std::size_t sceneCount, const ExploreGrid& grid);
 
-// Renders one job and returns its CSV rows (one per hardware combination, without newline).
-std::vector<std::string> runExploreJob(const std::vector<SceneDesc>& scenes,
-                                       const ExploreGrid& grid, const HardwareConfig& baseHardware,
-                                       const ExploreJob& job, int threads,
-                                       const SceneLimits& limits = {});
+// One point of the grid: which value of every axis (rasterizer axes, then hardware axes), its
+// modelled cycles, and its CSV line (without newline).
+struct ExploreRow {
+    std::size_t job = 0;
+    std::vector<std::size_t> choice;
+    double totalCycles = 0;
+    std::string csv;
+};
+
+// Renders one job and returns its rows (one per hardware combination).
+std::vector<ExploreRow> runExploreJob(const std::vector<SceneDesc>& scenes, const ExploreGrid& grid,
+                                      const HardwareConfig& baseHardware, std::size_t jobIndex,
+                                      int threads, const SceneLimits& limits = {});
+
+// Rows as text for MPI ranks to send, and back (not CSV: the fields are separated by a unit
+// separator, so nothing is parsed out of the CSV).
+std::string packExploreRows(const std::vector<ExploreRow>& rows);
+std::vector<ExploreRow> unpackExploreRows(const std::string& text);
 
 std::string exploreCsvHeader(const ExploreGrid& grid);
 
@@ -63,11 +76,12 @@ std::string exploreCsvHeader(const ExploreGrid& grid);
 void runExploreJobs(const std::vector<SceneDesc>& scenes, const ExploreGrid& grid,
                     const HardwareConfig& baseHardware, int threads, const SceneLimits& limits,
                     const std::function<bool(std::size_t)>& mine,
-                    const std::function<void(std::size_t, const std::vector<std::string>&)>& emit);
+                    const std::function<void(std::size_t, const std::vector<ExploreRow>&)>& emit);
 
 // One SVG per parameter: modelled cycles of every row against that parameter's values, with the
 // mean per value joined; files go through `outputs`. Returns the files written.
-std::vector<std::string> writeExplorePlots(const std::string& csvText, const ExploreGrid& grid,
-                                           const std::string& dir, class OutputSet& outputs);
+std::vector<std::string> writeExplorePlots(const std::vector<ExploreRow>& rows,
+                                           const ExploreGrid& grid, const std::string& dir,
+                                           class OutputSet& outputs);
 
 }  // namespace patchsim

@@ -1,12 +1,16 @@
 #pragma once
 // `patchsim render`: a whole frame through the pipeline. The front end runs over all patches in
-// parallel; each patch is split into groups and its hierarchies built (counted once); then the
-// screen's tile rows are dealt to a fixed number of row classes, each run by one worker that walks
-// all patches in order over its own rows. A tile's z-buffer, transparent layers and heat-map
-// cells are only touched by its own row class in patch order, so the image and every counter are
-// the same for any thread count. The back end then shades every t-fragment at its time, blends
-// transparent layers, resolves, and writes the AOVs.
+// parallel; the visibility method (the patch rasterizer's frame loop, rasterizer/frame_rasterizer,
+// or the reference method) fills the per-sample visibility buffer; the back end then shades every
+// t-fragment at its time, blends transparent layers, resolves, and writes the AOVs. Images and
+// every counter are the same for any thread count.
+//
+// A frame can be split between processes (MPI ranks, SPEC section 13) by screen tiles: each rank
+// runs the front end, rasterizes the tile-row classes it owns, and sends their rows and work to
+// rank 0, which puts the frame together, shades it and writes the one output. The result equals a
+// local render byte for byte.
 
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -16,12 +20,25 @@
 #include "pipeline/core/rasterizer_options.h"
 #include "pipeline/core/scene.h"
 #include "pipeline/driver/timing_model.h"
-#include "rasterizer/patch_rasterizer.h"
+#include "rasterizer/pixel_counters.h"
+#include "rasterizer/raster_work.h"
+#include "rasterizer/transparent_layers.h"
+#include "rasterizer/visibility_buffer.h"
 
 namespace patchsim {
 
 enum class VisibilityMethod : std::uint8_t { Patch, Reference };
 const char* visibilityMethodName(VisibilityMethod m);
+
+// One frame split between `ranks` processes; `gather` brings every rank's bytes to rank 0 (in
+// rank order; empty on the others), as MPI_Gatherv does.
+struct FrameShare {
+    int rank = 0, ranks = 1;
+    std::function<std::vector<std::string>(const std::string&)> gather;
+
+    bool split() const { return ranks > 1; }
+    bool root() const { return rank == 0; }
+};
 
 struct RenderOptions {
     VisibilityMethod method = VisibilityMethod::Patch;
@@ -32,9 +49,11 @@ struct RenderOptions {
     bool heatMaps = false;             // collect per-pixel work
     bool progress = false;             // progress bar (when standard error is a terminal)
     std::uint64_t patchOrderSeed = 0;  // > 0: rasterize patches in a shuffled order (tests)
+    FrameShare share;
 };
 
 struct RenderResult {
+    bool complete = true;  // false on ranks other than 0 of a split frame: nothing to write
     ResolvedFrame frame;
     std::vector<std::string> notes;  // per object (scene_info.h objectNotes)
     Effects effects;
@@ -43,25 +62,10 @@ struct RenderResult {
     double frontEndSeconds = 0, visibilitySeconds = 0, shadingSeconds = 0;
     std::unique_ptr<VisibilityBuffer> visibility;
     std::unique_ptr<TransparentLayers> transparent;  // null without transparency
-    std::unique_ptr<PixelWork> pixelWork;            // null without heat maps
+    std::unique_ptr<PixelCounters> pixels;           // null without heat maps
     std::vector<PatchOps> patchOps;  // every stage's counted work per patch, for the timing model
 };
 
-// The rasterizer's work on one patch, summed over its groups and tiles.
-struct PatchRasterWork {
-    WorkCounts work;
-    std::int64_t nodesBuilt = 0;
-    std::uint64_t largestHierarchyBytes = 0;
-};
-
 RenderResult renderScene(const SceneDesc& scene, const RenderOptions& options);
-
-// The visibility step of the patch method on prepared meshes (also used by benchmarks): groups
-// and hierarchies, then every tile of every group in the order given (all patches when empty).
-std::vector<PatchRasterWork> runPatchVisibility(const std::vector<MovingMesh>& meshes,
-                                                const PatchRasterizer& rasterizer, int threads,
-                                                const VisibilityTargets& targets,
-                                                const std::vector<std::size_t>& order = {},
-                                                class Progress* progress = nullptr);
 
 }  // namespace patchsim

@@ -1,8 +1,11 @@
 #include "pipeline/driver/stats_report.h"
 
+#include <cstdio>
 #include <iomanip>
 #include <map>
 #include <nlohmann/json.hpp>
+
+#include "rasterizer/raster_work.h"
 
 namespace patchsim {
 
@@ -15,8 +18,9 @@ std::map<std::string, CounterInfo> infoByName() {
 }
 }  // namespace
 
-void printCounterTable(std::ostream& out, const CounterValues& values) {
+void printCounterTable(std::ostream& out, const CounterValues& counterValues) {
     const auto infos = infoByName();
+    const auto values = counterValues.byName();
     std::size_t width = 0;
     for (const auto& [name, value] : values) width = std::max(width, name.size());
     std::string stage;
@@ -30,10 +34,16 @@ void printCounterTable(std::ostream& out, const CounterValues& values) {
         out << "  " << std::left << std::setw(int(width) + 2) << name << std::right << std::setw(16)
             << value << "  " << (it != infos.end() ? it->second.unit : "") << "\n";
     }
+    const RatioCounter& ste = sampleTestEfficiency();
+    char ratio[32];
+    std::snprintf(ratio, sizeof ratio, "%16.4f", counterValues.ratio(ste));
+    out << "  " << std::left << std::setw(int(width) + 2) << ste.name << ratio << "  ratio\n";
 }
 
-void writeStatsJson(std::ostream& out, const StatsContext& context, const CounterValues& values) {
+void writeStatsJson(std::ostream& out, const StatsContext& context,
+                    const CounterValues& counterValues) {
     const auto infos = infoByName();
+    const auto values = counterValues.byName();
     nlohmann::ordered_json json;
     json["schema"] = "patchsim-stats";
     json["version"] = kStatsSchemaVersion;

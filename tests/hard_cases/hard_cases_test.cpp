@@ -13,7 +13,9 @@
 
 #include "pipeline/core/counters.h"
 #include "pipeline/core/samples.h"
+#include "rasterizer/moving_box_ray.h"
 #include "rasterizer/patch_rasterizer.h"
+#include "rasterizer/sample_tracer.h"
 #include "rasterizer/watertight_triangle.h"
 #include "tessellator/front_end.h"
 #include "tests/render_compare.h"
@@ -202,11 +204,13 @@ TEST(HardCases, RayDirectionComponentsOfPlusAndMinusZero) {
             ray.origin = Vec3(0.5f, 0.5f, 0);
             ray.direction = Vec3(zx, zy, -1);
             ray.time = 0.5f;
-            EXPECT_TRUE(rayMeetsMovingBox(ray, box, 0, 100)) << zx << " " << zy;
+            ray.lambdaMin = 0;
+            ray.lambdaMax = 100;
+            EXPECT_TRUE(rayMeetsMovingBox(ray, box)) << zx << " " << zy;
             ray.origin = Vec3(1.5f, 0.5f, 0);  // outside the x slab
-            EXPECT_FALSE(rayMeetsMovingBox(ray, box, 0, 100)) << zx << " " << zy;
+            EXPECT_FALSE(rayMeetsMovingBox(ray, box)) << zx << " " << zy;
             ray.origin = Vec3(1.0f, 1.0f, 0);  // exactly on the slab boundaries
-            EXPECT_TRUE(rayMeetsMovingBox(ray, box, 0, 100)) << zx << " " << zy;
+            EXPECT_TRUE(rayMeetsMovingBox(ray, box)) << zx << " " << zy;
             // The triangle test takes the same rays without NaN.
             ray.origin = Vec3(0.25f, 0.25f, 0);
             TriangleHit hit;
@@ -272,7 +276,7 @@ TEST(HardCases, WatertightSharedEdgesAtAnyTimeWithAndWithoutDefocus) {
             for (int x = 8; x < 24; ++x) {
                 for (int s = 0; s < 9; ++s) {
                     hits += r.visibility->at(x, y, s).hit();
-                    const Ray ray = sampleRay(camera, lens, samples, x, y, s);
+                    const Ray ray = sampleRay(RayCaster{camera, lens, samples}, x, y, s);
                     const ShearedRay sheared = shearRay(ray);
                     int claims = 0;
                     for (const MovingMesh& m : meshes)

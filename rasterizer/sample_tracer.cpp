@@ -1,0 +1,118 @@
+#include "rasterizer/sample_tracer.h"
+
+#include "rasterizer/moving_box_ray.h"
+#include "rasterizer/watertight_triangle.h"
+#include "rasterizer/z_culling.h"
+
+namespace patchsim {
+
+Ray sampleRay(const RayCaster& c, int x, int y, int s) {
+    const Sample smp = c.samples.sample(x, y, s);
+    const Vec2 screen = rasterToScreen(c.camera, Vec2(float(x), float(y)) + smp.pixelOffset);
+    return makeCameraRay(c.camera, screen, concentricDisk(smp.lens), smp.time, c.lens);
+}
+
+namespace {
+
+// Calls onHit(record) for every triangle of a leaf the ray hits at its time within its range;
+// `sample` carries the sample's time and lens position into the records.
+template <typename OnHit>
+void forEachLeafHit(const MovingMesh& mesh, const std::uint32_t* triangles, std::size_t count,
+                    const Ray& ray, const VisibilityRecord& sample, const OnHit& onHit) {
+    const ShearedRay sheared = shearRay(ray);
+    for (std::size_t k = 0; k < count; ++k) {
+        const std::uint32_t tri = triangles[k];
+        const std::uint32_t* v = &mesh.indices[3 * std::size_t(tri)];
+        TriangleHit hit;
+        if (!intersectTriangle(sheared, mesh.vertexAt(v[0], ray.time),
+                               mesh.vertexAt(v[1], ray.time), mesh.vertexAt(v[2], ray.time),
+                               ray.lambdaMin, ray.lambdaMax, hit))
+            continue;
+        VisibilityRecord record = sample;
+        record.depth = hit.lambda * ray.depthPerLambda;
+        record.patch = mesh.patchId;
+        record.triangle = tri;
+        record.b1 = hit.b1;
+        record.b2 = hit.b2;
+        onHit(record);
+    }
+}
+
+}  // namespace
+
+void traceTileSamples(const RayCaster& caster, const MovingMesh& mesh, const PatchHierarchy& h,
+                      const TileRect& tile, const TileTraversal& traversal, int branchNode,
+                      const VisibilityTargets& targets, RasterWork& work) {
+    VisibilityBuffer& buffer = *targets.opaque;
+    PixelCounters* pixels = targets.pixels;
+    const bool everyHit = !mesh.opaque && targets.transparent != nullptr;
+    const int spp = buffer.samplesPerPixel();
+    const int firstLeaf = PatchHierarchy::firstLeaf(h.depth());
+    for (int y = tile.y0; y < tile.y1; ++y) {
+        for (int x = tile.x0; x < tile.x1; ++x) {
+            RasterWork pixelStart;  // only read for heat maps
+            if (pixels) pixelStart = work;
+            for (int s = 0; s < spp; ++s) {
+                ++work.samplesTested;
+                const Sample smp = caster.samples.sample(x, y, s);
+                if (caster.motion && !traversal.times.contains(smp.time)) {
+                    ++work.samplesRejectedTime;
+                    continue;
+                }
+                const Vec2 screen =
+                    rasterToScreen(caster.camera, Vec2(float(x), float(y)) + smp.pixelOffset);
+                Ray ray = makeCameraRay(caster.camera, screen, concentricDisk(smp.lens), smp.time,
+                                        caster.lens);
+                ++work.raysCast;
+                const float bound = caster.zCulling || everyHit ? buffer.depthBound(x, y, s)
+                                                                : caster.camera.farPlane();
+                ray.lambdaMax = rayEndAtDepth(bound, ray.depthPerLambda);
+                const SlabRay slab = makeSlabRay(ray);
+                VisibilityRecord sample;
+                sample.time = smp.time;
+                sample.lens = smp.lens;
+                VisibilityRecord best = buffer.at(x, y, s);
+                const VisibilityRecord previous = best;
+                const std::size_t sampleIndex = buffer.index(x, y, s);
+                int stack[2 * kMaxLeavesPerHierarchy];
+                int top = 0;
+                stack[top++] = branchNode;
+                while (top > 0) {
+                    const int node = stack[--top];
+                    ++work.rayBoxTests;
+                    if (!hitsMovingBox(slab, h.node(node))) continue;
+                    if (!h.isLeaf(node)) {
+                        stack[top++] = 2 * node + 2;
+                        stack[top++] = 2 * node + 1;
+                        continue;
+                    }
+                    std::size_t count;
+                    const std::uint32_t* tris = h.leafTriangles(node - firstLeaf, count);
+                    work.rayTriangleTests += std::int64_t(count);
+                    if (everyHit) {
+                        forEachLeafHit(
+                            mesh, tris, count, ray, sample, [&](const VisibilityRecord& hit) {
+                                ++work.transparentFragments;
+                                if (!targets.transparent->offer(sampleIndex, targets.pool,
+                                                                LayerFragment{hit, mesh.objectId}))
+                                    ++work.transparentOverflow;
+                            });
+                    } else {
+                        forEachLeafHit(mesh, tris, count, ray, sample,
+                                       [&](const VisibilityRecord& hit) {
+                                           if (hit.nearerThan(best)) best = hit;
+                                       });
+                    }
+                }
+                if (best.patch != previous.patch || best.triangle != previous.triangle ||
+                    best.depth != previous.depth) {
+                    ++work.visibilitySamples;
+                    buffer.offer(x, y, s, best);
+                }
+            }
+            if (pixels) pixels->record(x, y, pixelStart, work);
+        }
+    }
+}
+
+}  // namespace patchsim

@@ -1,0 +1,59 @@
+#include "rasterizer/screen_bounds.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "rasterizer/conservative_margins.h"
+
+namespace patchsim {
+
+ScreenBounds screenBounds(const PatchHierarchy& h, int boundsLevel, const Camera& camera,
+                          const LensModel& lens) {
+    const int level = std::min(boundsLevel, h.depth());
+    float lo[2] = {1e30f, 1e30f}, hi[2] = {-1e30f, -1e30f};
+    const float tanX = camera.tanHalfFovY() * camera.aspect(), tanY = camera.tanHalfFovY();
+    for (int node = PatchHierarchy::firstLeaf(level); node < PatchHierarchy::firstLeaf(level + 1);
+         ++node) {
+        const LBBox& box = h.node(node);
+        if (box.empty()) continue;
+        for (const Box3* b : {&box.bounds0, &box.bounds1}) {
+            for (int c = 0; c < 8; ++c) {
+                const Vec3 p = b->corner(c);
+                const float depth = -p.z;
+                if (!(depth >= camera.nearPlane()) || !std::isfinite(depth))
+                    return {0, 0, float(camera.width()), float(camera.height()), true};
+                const float blur = lens.radius * std::abs(1.0f / depth - 1.0f / lens.focusDistance);
+                const float s[2] = {p.x / depth, p.y / depth};
+                for (int k = 0; k < 2; ++k) {
+                    lo[k] = std::min(lo[k], s[k] - blur);
+                    hi[k] = std::max(hi[k], s[k] + blur);
+                }
+            }
+        }
+    }
+    ScreenBounds b;
+    b.x0 = (lo[0] / tanX + 1.0f) * 0.5f * float(camera.width());
+    b.x1 = (hi[0] / tanX + 1.0f) * 0.5f * float(camera.width());
+    b.y0 = (1.0f - hi[1] / tanY) * 0.5f * float(camera.height());
+    b.y1 = (1.0f - lo[1] / tanY) * 0.5f * float(camera.height());
+    b.x0 -= kScreenBoundsMarginPixels;
+    b.y0 -= kScreenBoundsMarginPixels;
+    b.x1 += kScreenBoundsMarginPixels;
+    b.y1 += kScreenBoundsMarginPixels;
+    return b;
+}
+
+TileRange tilesCovering(const ScreenBounds& b, const TileGrid& grid) {
+    const int t = grid.tileSize;
+    TileRange r;
+    r.x0 = std::clamp(int(std::floor(b.x0)) / t, 0, grid.tilesX());
+    r.y0 = std::clamp(int(std::floor(b.y0)) / t, 0, grid.tilesY());
+    r.x1 = std::clamp(int(std::floor(b.x1)) / t + 1, 0, grid.tilesX());
+    r.y1 = std::clamp(int(std::floor(b.y1)) / t + 1, 0, grid.tilesY());
+    if (!(b.x0 <= b.x1) || !(b.y0 <= b.y1) || b.x1 < 0 || b.y1 < 0 || b.x0 > float(grid.width) ||
+        b.y0 > float(grid.height))
+        r.x1 = r.x0;  // nothing on screen
+    return r;
+}
+
+}  // namespace patchsim
