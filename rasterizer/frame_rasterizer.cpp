@@ -48,10 +48,7 @@ FrameRasterWork rasterizeFrame(const std::vector<MovingMesh>& meshes,
     const int tileRows = rasterizer.tileGrid().tilesY();
     parallelFor(kRowClasses, options.threads, [&](int, std::size_t rowClassIndex) {
         const int rowClass = int(rowClassIndex);
-        if (options.ownsRowClass && !options.ownsRowClass(rowClass)) {
-            if (options.progress) options.progress->advance(std::int64_t(meshes.size()));
-            return;
-        }
+        if (options.ownsRowClass && !options.ownsRowClass(rowClass)) return;
         VisibilityTargets mine = targets;
         mine.pool = rowClass;
         for (std::size_t i : order) {

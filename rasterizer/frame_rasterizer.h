@@ -27,7 +27,7 @@ inline constexpr int kRowClasses = TransparentLayers::kPools;
 struct FrameRasterOptions {
     int threads = 0;
     std::vector<std::size_t> order;  // patch order (index order when empty)
-    Progress* progress = nullptr;    // advanced once per patch and row class
+    Progress* progress = nullptr;    // advanced once per patch and owned row class
     // The row classes this process rasterizes; all when empty.
     std::function<bool(int rowClass)> ownsRowClass;
 };

@@ -9,7 +9,7 @@
 namespace patchsim {
 
 struct ShearedRay {
-    Vec3 origin;
+    Vec3 origin{0.0f};
     int kx = 0, ky = 1, kz = 2;
     float sx = 0, sy = 0, sz = 1;
 };

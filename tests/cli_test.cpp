@@ -384,6 +384,47 @@ TEST(Cli, ExploreWritesCsvAndPlotsAndMpiGivesTheSameFile) {
     EXPECT_FALSE(fs::exists(dir + "/bad.csv"));
 }
 
+// SPEC 13: one frame split across ranks by screen tiles, one output, equal to a local render byte
+// for byte (images, heat maps, stats); for both visibility methods and with transparency.
+TEST(Cli, MpiRenderSplitsAFrameAndEqualsTheLocalRender) {
+    if (std::system("command -v mpirun > /dev/null 2>&1") != 0) GTEST_SKIP() << "no mpirun";
+    const std::string dir = patchsim::test::temporaryDirectory() + "/mpi-render";
+    fs::remove_all(dir);
+    const std::string scene = writeFile("mpi-scene.json", R"({"film": {"width": 40, "height": 30, "spp": 4},
+        "lens": {"aperture_radius": 0.1, "focus_distance": 6},
+        "objects": [{"cage": ")" + sourcePath("scenes/cages/catmark_torus.obj") + R"(",
+                     "close": {"translate": [0.5, 0, 0]}, "material": {"opacity": 0.6}},
+                    {"cage": ")" + sourcePath("scenes/cages/loop_icosahedron.obj") + R"(",
+                     "open": {"translate": [0, 0, -1]}}]})");
+    const std::string mpi =
+        "ASAN_OPTIONS=detect_leaks=0 OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 "
+        "timeout 300 mpirun -np 2 --oversubscribe -x ASAN_OPTIONS ";
+    for (const char* method : {"patch", "reference"}) {
+        const std::string local = dir + "/local-" + method, split = dir + "/split-" + method;
+        const std::string args = " render " + scene + " -q --heatmaps --method " + method;
+        ASSERT_EQ(run(args.substr(1) + " -o " + local).exitCode, 0);
+        const std::string command = mpi + PATCHSIM_BINARY + args + " -o " + split + " > " + dir +
+                                    "/" + method + ".log 2>&1";
+        ASSERT_EQ(std::system(command.c_str()), 0) << method;
+        std::size_t files = 0;
+        for (const auto& entry : fs::directory_iterator(local)) {
+            const std::string name = entry.path().filename().string();
+            std::ifstream a(entry.path(), std::ios::binary), b(split + "/" + name, std::ios::binary);
+            const std::string bytesA((std::istreambuf_iterator<char>(a)), {});
+            const std::string bytesB((std::istreambuf_iterator<char>(b)), {});
+            EXPECT_TRUE(!bytesA.empty() && bytesA == bytesB) << method << " " << name << " differs";
+            ++files;
+        }
+        EXPECT_EQ(files, 16u) << "image.exr, image.png, stats.json and 13 heat maps";
+    }
+    // An output refused by rank 0 ends every rank, exit 2, no hang.
+    const std::string file = writeFile("mpi-render/not-a-folder", "x");
+    const int status =
+        std::system((mpi + PATCHSIM_BINARY + " render -q -o " + file + " > /dev/null 2>&1").c_str());
+    ASSERT_TRUE(WIFEXITED(status));
+    EXPECT_EQ(WEXITSTATUS(status), 2) << "124 means a rank hung";
+}
+
 TEST(Cli, RenderWithHardwareConfigAndTrace) {
     const std::string dir = patchsim::test::temporaryDirectory() + "/hw";
     const std::string hw = writeFile("slow_rs.json", R"({"clock_ghz": 1, "stages": {

@@ -161,7 +161,7 @@ void addRenderOptions(CLI::App& cmd, RenderCommand& r) {
     cmd.add_option("--trace", r.trace, "Write the per-patch timeline as Chrome trace-event JSON");
 }
 
-int runRender(const RenderCommand& r) {
+int runRender(const RenderCommand& r, const MpiContext& mpi) {
     SceneDesc scene = loadScene(r.common);
     RasterizerOptions& o = scene.rasterizer;
     std::map<std::string, std::string> given = r.rasterizer;
@@ -177,7 +177,7 @@ int runRender(const RenderCommand& r) {
     options.method =
         r.method == "reference" ? VisibilityMethod::Reference : VisibilityMethod::Patch;
     options.overrides = r.common.overrides;
-    options.threads = r.common.threads;
+    options.threads = mpi.threadsPerRank(r.common.threads);
     options.maxLayers = r.maxLayers;
     options.resolve.filter = r.filter == "gaussian" ? ResolveFilter::Gaussian : ResolveFilter::Box;
     options.resolve.shadingRate = r.shadingRate == "per-pixel-primitive"
@@ -187,15 +187,34 @@ int runRender(const RenderCommand& r) {
     options.progress = !r.noProgress;
     const HardwareConfig hardware =
         r.hardware.empty() ? defaultHardwareConfig() : readHardwareConfig(r.hardware);
-    // Every output path is checked before the work; nothing is written unless all succeed.
+    // Every output path is checked before the work; nothing is written unless all succeed. Under
+    // mpirun the frame is split across ranks by screen tiles and rank 0 writes the one output.
     OutputSet outputs;
-    outputs.folder(r.outputDir, "-o");
     const std::string exr = r.outputDir + "/image.exr", png = r.outputDir + "/image.png",
                       stats = r.outputDir + "/stats.json";
-    for (const std::string& file : {exr, png, stats}) outputs.file(file, "-o");
-    if (!r.trace.empty()) outputs.file(r.trace, "--trace");
+    std::exception_ptr outputError;
+    if (mpi.rank() == 0) {
+        try {
+            outputs.folder(r.outputDir, "-o");
+            for (const std::string& file : {exr, png, stats}) outputs.file(file, "-o");
+            if (!r.trace.empty()) outputs.file(r.trace, "--trace");
+        } catch (const InputError&) {
+            outputError = std::current_exception();
+        }
+    }
+    if (!mpi.allSucceeded(outputError == nullptr)) {
+        if (outputError) std::rethrow_exception(outputError);
+        return 2;  // rank 0 refused the outputs and said why
+    }
+    if (mpi.active()) {
+        options.share = {mpi.rank(), mpi.size(),
+                         [&mpi](const std::string& mine) { return mpi.gather(mine); },
+                         [&mpi] { return mpi.makeProgressShare(); }};
+        options.progress = options.progress && mpi.rank() == 0;
+    }
     CounterRegistry::instance().reset();
     const RenderResult result = renderScene(scene, options);
+    if (!result.complete) return 0;  // another rank writes the frame
     for (const std::string& note : result.notes) std::cerr << "patchsim: " << note << "\n";
     const TimingReport timing = simulateTiming(result.patchOps, hardware);
     const CounterValues counters = CounterRegistry::instance().snapshot();
@@ -230,6 +249,8 @@ int runRender(const RenderCommand& r) {
                           [&](std::ostream& out) { writeChromeTrace(timing, out); });
     outputs.commit();
     if (!r.quiet) printCounterTable(std::cout, counters);
+    if (mpi.active())
+        std::cout << "split across " << mpi.size() << " MPI ranks by tile-row classes\n";
     printTimingReport(timing, std::cout);
     std::cout << "rendered " << scene.path << " (" << describeMode(result.effects) << ") with the "
               << visibilityMethodName(options.method) << " method: " << result.patches
@@ -391,12 +412,12 @@ int main(int argc, char** argv) {
     try {
         if (*info) return runInfo(infoOptions);
         if (*tess) return runTessellate(tessOptions, tessOutput, tessTime, tessStats, tessQuiet);
-        if (*render) return runRender(renderOptions);
+        if (*render) return runRender(renderOptions, mpi);
         if (*verify) return runVerifyTiles(verifyCases, verifySeed);
         if (*explore) return runExplore(exploreOptions, mpi);
         // No subcommand: the main job, a render of the built-in default scene into out/.
         const RenderCommand defaults;
-        return runRender(defaults);
+        return runRender(defaults, mpi);
     } catch (const InputError& e) {
         std::cerr << "patchsim: error: " << e.what() << "\n";
         return 2;

@@ -1,6 +1,7 @@
 #include "pipeline/app/mpi_context.h"
 
 #include <algorithm>
+#include <cstdint>
 #include <cstdlib>
 #include <thread>
 
@@ -20,7 +21,9 @@ bool startedByMpirun() {
 MpiContext::MpiContext(int& argc, char**& argv) {
 #ifdef PATCHSIM_HAVE_MPI
     if (!startedByMpirun()) return;
-    MPI_Init(&argc, &argv);
+    // Progress is published from worker threads, one at a time (pipeline/core/progress.h).
+    int provided = 0;
+    MPI_Init_thread(&argc, &argv, MPI_THREAD_SERIALIZED, &provided);
     MPI_Comm_rank(MPI_COMM_WORLD, &rank_);
     MPI_Comm_size(MPI_COMM_WORLD, &size_);
     active_ = true;
@@ -55,6 +58,55 @@ int MpiContext::localRanks() const {
         if (n > 0) return n;
     }
     return size_;
+}
+
+#ifdef PATCHSIM_HAVE_MPI
+namespace {
+
+// Every rank's units in one slot each of a window on rank 0; the others put theirs there with
+// passive-target RMA, rank 0 reads them when it draws.
+class MpiProgressShare : public ProgressShare {
+  public:
+    MpiProgressShare(int rank, int size)
+        : rank_(rank), slots_(rank == 0 ? std::size_t(size) : 0, 0) {
+        MPI_Win_create(slots_.data(), MPI_Aint(slots_.size() * sizeof(std::int64_t)),
+                       sizeof(std::int64_t), MPI_INFO_NULL, MPI_COMM_WORLD, &window_);
+    }
+    ~MpiProgressShare() override { MPI_Win_free(&window_); }
+
+    void publish(std::int64_t done) override {
+        if (rank_ == 0) return;
+        MPI_Win_lock(MPI_LOCK_SHARED, 0, 0, window_);
+        MPI_Put(&done, 1, MPI_INT64_T, 0, rank_, 1, MPI_INT64_T, window_);
+        MPI_Win_unlock(0, window_);
+    }
+    std::int64_t others() override {
+        if (rank_ != 0) return 0;
+        MPI_Win_lock(MPI_LOCK_SHARED, 0, 0, window_);
+        std::int64_t sum = 0;
+        for (std::size_t r = 1; r < slots_.size(); ++r) sum += slots_[r];
+        MPI_Win_unlock(0, window_);
+        return sum;
+    }
+    void finish(std::int64_t done) override {
+        publish(done);
+        MPI_Barrier(MPI_COMM_WORLD);
+    }
+
+  private:
+    int rank_;
+    std::vector<std::int64_t> slots_;
+    MPI_Win window_;
+};
+
+}  // namespace
+#endif
+
+std::unique_ptr<ProgressShare> MpiContext::makeProgressShare() const {
+#ifdef PATCHSIM_HAVE_MPI
+    if (active_) return std::make_unique<MpiProgressShare>(rank_, size_);
+#endif
+    return nullptr;
 }
 
 int MpiContext::threadsPerRank(int requested) const {

@@ -1,9 +1,14 @@
 #pragma once
-// MPI for `patchsim explore`, when the build found OpenMPI and the process was started by mpirun:
-// ranks and a gather of text to rank 0. Without MPI (or outside mpirun) there is one rank.
+// MPI for `patchsim explore` and `render`, when the build found OpenMPI and the process was
+// started by mpirun: ranks, a gather of bytes to rank 0, an all-ranks success check, each rank's
+// share of the machine's cores, and progress shared between ranks. Without MPI (or outside
+// mpirun) there is one rank.
 
+#include <memory>
 #include <string>
 #include <vector>
+
+#include "pipeline/core/progress.h"
 
 namespace patchsim {
 
@@ -25,6 +30,8 @@ class MpiContext {
     int localRanks() const;
     // Worker threads for this rank: `requested`, or for 0 (all cores) this rank's share of them.
     int threadsPerRank(int requested) const;
+    // Shares progress between ranks (collective: every rank makes one at the same point).
+    std::unique_ptr<ProgressShare> makeProgressShare() const;
 
   private:
     int rank_ = 0, size_ = 1;

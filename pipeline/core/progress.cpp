@@ -7,17 +7,29 @@
 namespace patchsim {
 
 Progress::Progress(std::string label, std::int64_t total, std::int64_t unitsPerItem, bool enabled,
-                   std::string items)
+                   std::string items, ProgressShare* share)
     : label_(std::move(label)),
       total_(std::max<std::int64_t>(total, 1)),
       unitsPerItem_(std::max<std::int64_t>(unitsPerItem, 1)),
       items_(std::move(items)),
-      enabled_(enabled && terminalAttached()),
+      style_(!enabled               ? Style::Silent
+             : terminalAttached()   ? Style::Bar
+             : share != nullptr     ? Style::Lines
+                                    : Style::Silent),
+      share_(share),
       start_(std::chrono::steady_clock::now()),
       lastDraw_(start_) {}
 
 Progress::~Progress() {
-    if (enabled_) draw(true);
+    if (style_ != Style::Silent) draw(true);
+}
+
+void Progress::finish() {
+    if (share_) share_->finish(done_.load());
+}
+
+std::int64_t Progress::done() {
+    return done_.load() + (share_ ? share_->others() : 0);
 }
 
 bool Progress::terminalAttached() {
@@ -26,16 +38,19 @@ bool Progress::terminalAttached() {
 
 void Progress::advance(std::int64_t units) {
     done_ += units;
-    if (!enabled_) return;
+    if (style_ == Style::Silent && !share_) return;
     const auto now = std::chrono::steady_clock::now();
+    const auto every = style_ == Style::Lines ? std::chrono::milliseconds(2000)
+                                              : std::chrono::milliseconds(100);
     std::unique_lock lock(mutex_, std::try_to_lock);
-    if (!lock.owns_lock() || now - lastDraw_ < std::chrono::milliseconds(100)) return;
+    if (!lock.owns_lock() || now - lastDraw_ < every) return;
     lastDraw_ = now;
-    draw(false);
+    if (share_) share_->publish(done_.load());
+    if (style_ != Style::Silent) draw(false);
 }
 
 void Progress::draw(bool final) {
-    const std::int64_t done = std::min(done_.load(), total_);
+    const std::int64_t done = std::min(this->done(), total_);
     const double fraction = double(done) / double(total_);
     const double elapsed =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
@@ -44,10 +59,12 @@ void Progress::draw(bool final) {
     char bar[kWidth + 1];
     for (int i = 0; i < kWidth; ++i) bar[i] = i < int(fraction * kWidth) ? '#' : '.';
     bar[kWidth] = 0;
-    std::fprintf(stderr, "\r%s [%s] %3d%%  %lld/%lld %s  %s %.1f s%s", label_.c_str(), bar,
-                 int(fraction * 100.0), static_cast<long long>(done / unitsPerItem_),
+    const bool redraw = style_ == Style::Bar;
+    std::fprintf(stderr, "%s%s [%s] %3d%%  %lld/%lld %s  %s %.1f s%s", redraw ? "\r" : "",
+                 label_.c_str(), bar, int(fraction * 100.0),
+                 static_cast<long long>(done / unitsPerItem_),
                  static_cast<long long>(total_ / unitsPerItem_), items_.c_str(),
-                 final ? "took" : "left", final ? elapsed : left, final ? "\n" : "  ");
+                 final ? "took" : "left", final ? elapsed : left, final || !redraw ? "\n" : "  ");
     std::fflush(stderr);
 }
 

@@ -1,7 +1,10 @@
 #pragma once
-// A progress bar on standard error for long jobs: work done, the items behind it (patches, rows,
-// runs), and an estimate of the time left. Silent unless standard error is a terminal, and never
-// printed more than ten times a second; safe to advance from several threads.
+// Progress of long jobs on standard error: work done, the items behind it (patches, rows, runs),
+// and an estimate of the time left. On a terminal, a bar redrawn at most ten times a second. A job
+// shared with other processes (MPI ranks) counts their work too, through a ProgressShare; there,
+// where standard error is not a terminal (mpirun forwards it through a pipe), the process that
+// reports prints a line every few seconds instead. Silent otherwise. Safe to advance from several
+// threads: one at a time draws and publishes.
 
 #include <atomic>
 #include <chrono>
@@ -10,23 +13,39 @@
 
 namespace patchsim {
 
+// The units of a job other processes have done. `publish` and `others` are called by one thread
+// at a time; `finish` is collective: every process calls it once, after its last unit.
+class ProgressShare {
+  public:
+    virtual ~ProgressShare() = default;
+    virtual void publish(std::int64_t done) = 0;
+    virtual std::int64_t others() = 0;
+    virtual void finish(std::int64_t done) = 0;
+};
+
 class Progress {
   public:
-    // `total` units of work; `unitsPerItem` converts units to the items the bar counts
-    // (`items`, e.g. "patches" or "rows").
+    // `total` units of work (of all processes sharing the job); `unitsPerItem` converts units to
+    // the items the bar counts (`items`, e.g. "patches" or "rows"). `enabled`: this process
+    // reports (others only publish to `share`).
     Progress(std::string label, std::int64_t total, std::int64_t unitsPerItem, bool enabled,
-             std::string items = "patches");
+             std::string items = "patches", ProgressShare* share = nullptr);
     ~Progress();
     void advance(std::int64_t units = 1);
+    // Collective when shared: after this process's last unit, waits for the others' last ones.
+    void finish();
     static bool terminalAttached();
 
   private:
+    enum class Style : std::uint8_t { Silent, Bar, Lines };
     void draw(bool final);
+    std::int64_t done();
 
     std::string label_;
     std::int64_t total_, unitsPerItem_;
     std::string items_;
-    bool enabled_;
+    Style style_;
+    ProgressShare* share_;
     std::atomic<std::int64_t> done_{0};
     std::chrono::steady_clock::time_point start_, lastDraw_;
     std::mutex mutex_;

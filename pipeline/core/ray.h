@@ -16,8 +16,8 @@
 namespace patchsim {
 
 struct Ray {
-    Vec3 origin;
-    Vec3 direction;
+    Vec3 origin{0.0f};
+    Vec3 direction{0.0f, 0.0f, -1.0f};
     float time = 0;
     float depthPerLambda = 1;  // -direction.z
     float lambdaMin = 0;

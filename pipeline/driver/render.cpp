@@ -127,10 +127,13 @@ Visibility runVisibility(const SceneDesc& scene, const RenderOptions& options,
         }
         if (share.split()) frame.ownsRowClass = ownsClass;
         const PatchRasterizer rasterizer(camera, lens, samples, effects, scene.rasterizer);
+        const std::unique_ptr<ProgressShare> progressShare =
+            share.progressShare ? share.progressShare() : nullptr;
         Progress progress("visibility", std::int64_t(count) * kRowClasses, kRowClasses,
-                          options.progress);
+                          options.progress, "patches", progressShare.get());
         frame.progress = &progress;
         FrameRasterWork work = rasterizeFrame(fe.meshes, rasterizer, targets, frame);
+        progress.finish();
         v.hierarchies = std::move(work.hierarchies);
         v.tiles = std::move(work.tiles);
         const int tileSize = rasterizer.tileGrid().tileSize;
@@ -141,9 +144,12 @@ Visibility runVisibility(const SceneDesc& scene, const RenderOptions& options,
         return v;
     }
     const int height = scene.film.height;
-    Progress progress("reference ", kReferenceBands, 1, options.progress, "bands");
+    const std::unique_ptr<ProgressShare> progressShare =
+        share.progressShare ? share.progressShare() : nullptr;
+    Progress progress("reference ", kReferenceBands, 1, options.progress, "bands",
+                      progressShare.get());
     parallelFor(kReferenceBands, workers, [&](int, std::size_t band) {
-        if (share.split() && !ownsClass(int(band))) return progress.advance();
+        if (share.split() && !ownsClass(int(band))) return;
         ReferenceWork work;
         VisibilityTargets mine = targets;
         mine.pool = int(band);
@@ -152,6 +158,7 @@ Visibility runVisibility(const SceneDesc& scene, const RenderOptions& options,
         renderReferenceRows(fe.meshes, camera, lens, samples, y0, y1, mine, work);
         progress.advance();
     });
+    progress.finish();
     v.hierarchies.resize(count);
     v.tiles.resize(count);
     v.ownsTileRow = [](int) { return false; };

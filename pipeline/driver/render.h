@@ -17,6 +17,7 @@
 
 #include "backend/resolve.h"
 #include "pipeline/core/effects.h"
+#include "pipeline/core/progress.h"
 #include "pipeline/core/rasterizer_options.h"
 #include "pipeline/core/scene.h"
 #include "pipeline/driver/timing_model.h"
@@ -35,6 +36,8 @@ const char* visibilityMethodName(VisibilityMethod m);
 struct FrameShare {
     int rank = 0, ranks = 1;
     std::function<std::vector<std::string>(const std::string&)> gather;
+    // Made by every rank at the same point (collective), so rank 0's progress shows all ranks'.
+    std::function<std::unique_ptr<ProgressShare>()> progressShare;
 
     bool split() const { return ranks > 1; }
     bool root() const { return rank == 0; }

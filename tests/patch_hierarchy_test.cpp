@@ -1,0 +1,130 @@
+#include "rasterizer/patch_hierarchy.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <random>
+
+#include "pipeline/core/scene_reader.h"
+#include "tests/test_paths.h"
+
+namespace patchsim {
+namespace {
+
+// A moving grid of n x n quads (2 n^2 triangles) with random wobble, as the tessellator makes.
+MovingMesh movingGrid(int n, std::uint32_t seed) {
+    std::mt19937 rng(seed);
+    std::uniform_real_distribution<float> u(-0.2f, 0.2f);
+    MovingMesh m;
+    for (int j = 0; j <= n; ++j)
+        for (int i = 0; i <= n; ++i) {
+            const Vec3 p(float(i), float(j), -5.0f + u(rng));
+            m.position0.push_back(p);
+            m.position1.push_back(p + Vec3(1.5f + u(rng), u(rng), u(rng)));
+            m.domain.push_back(Vec2(float(i) / float(n), float(j) / float(n)));
+        }
+    for (int j = 0; j < n; ++j)
+        for (int i = 0; i < n; ++i) {
+            const std::uint32_t a = std::uint32_t(j * (n + 1) + i);
+            m.indices.insert(m.indices.end(), {a, a + 1, a + std::uint32_t(n) + 2});
+            m.indices.insert(m.indices.end(), {a, a + std::uint32_t(n) + 2, a + std::uint32_t(n) + 1});
+        }
+    return m;
+}
+
+bool contains(const Box3& outer, const Box3& inner) {
+    return glm::all(glm::lessThanEqual(outer.lower, inner.lower)) &&
+           glm::all(glm::greaterThanEqual(outer.upper, inner.upper));
+}
+
+TEST(PatchHierarchy, CompleteTreeOfLeavesHoldingEveryTriangleOnce) {
+    const MovingMesh mesh = movingGrid(8, 1);  // 128 triangles
+    for (int leafSize : {1, 2, 4, 8}) {
+        std::vector<std::uint32_t> all(mesh.triangleCount());
+        for (std::size_t k = 0; k < all.size(); ++k) all[k] = std::uint32_t(k);
+        PatchHierarchy h;
+        h.build(mesh, all.data(), all.size(), leafSize);
+        EXPECT_EQ(h.nodeCount(), 2 * h.leafCount() - 1);
+        EXPECT_LE(h.leafCount(), kMaxLeavesPerHierarchy);
+        std::vector<std::uint32_t> seen;
+        for (int leaf = 0; leaf < h.leafCount(); ++leaf) {
+            std::size_t count;
+            const std::uint32_t* tris = h.leafTriangles(leaf, count);
+            if (h.leafCount() < kMaxLeavesPerHierarchy) {
+                EXPECT_LE(count, std::size_t(leafSize));
+            }
+            seen.insert(seen.end(), tris, tris + count);
+        }
+        std::sort(seen.begin(), seen.end());
+        EXPECT_EQ(seen, all) << "leaf size " << leafSize;
+    }
+}
+
+// Every node's moving box holds its children's, and a leaf's holds its triangles at any time:
+// a vertex blended to t lies in the box blended to t, bit for bit (no rounding can escape).
+TEST(PatchHierarchy, MovingBoxesBoundTheirTrianglesAtEveryTime) {
+    const MovingMesh mesh = movingGrid(6, 2);
+    std::vector<std::uint32_t> all(mesh.triangleCount());
+    for (std::size_t k = 0; k < all.size(); ++k) all[k] = std::uint32_t(k);
+    PatchHierarchy h;
+    h.build(mesh, all.data(), all.size(), 4);
+    for (int node = 0; node < PatchHierarchy::firstLeaf(h.depth()); ++node)
+        for (int child : {2 * node + 1, 2 * node + 2})
+            if (!h.node(child).empty()) {
+                EXPECT_TRUE(contains(h.node(node).bounds0, h.node(child).bounds0));
+                EXPECT_TRUE(contains(h.node(node).bounds1, h.node(child).bounds1));
+            }
+    for (int leaf = 0; leaf < h.leafCount(); ++leaf) {
+        std::size_t count;
+        const std::uint32_t* tris = h.leafTriangles(leaf, count);
+        const LBBox& box = h.node(PatchHierarchy::firstLeaf(h.depth()) + leaf);
+        for (float t : {0.0f, 0.1f, 0.37f, 0.5f, 0.9999f, 1.0f}) {
+            const Box3 at = box.at(t);
+            for (std::size_t k = 0; k < count; ++k)
+                for (int c = 0; c < 3; ++c) {
+                    const Vec3 v = mesh.vertexAt(mesh.indices[3 * tris[k] + std::size_t(c)], t);
+                    ASSERT_TRUE(glm::all(glm::lessThanEqual(at.lower, v)) &&
+                                glm::all(glm::lessThanEqual(v, at.upper)))
+                        << "leaf " << leaf << " t " << t;
+                }
+        }
+    }
+}
+
+TEST(PatchHierarchy, LargePatchesSplitIntoGroupsByTheDomainGrid) {
+    const MovingMesh mesh = movingGrid(16, 3);  // 512 triangles
+    std::vector<std::uint32_t> order, begin;
+    splitIntoGroups(mesh, 100, order, begin);
+    ASSERT_EQ(begin.size(), 9u);  // 8 groups (a power of two) of at most 100
+    for (std::size_t g = 0; g + 1 < begin.size(); ++g) EXPECT_LE(begin[g + 1] - begin[g], 100u);
+    std::vector<std::uint32_t> sorted = order;
+    std::sort(sorted.begin(), sorted.end());
+    for (std::size_t k = 0; k < sorted.size(); ++k) ASSERT_EQ(sorted[k], k);
+    // Groups are compact in the domain: each group's centroids span at most half of u or v.
+    for (std::size_t g = 0; g + 1 < begin.size(); ++g) {
+        Vec2 lo(1e9f), hi(-1e9f);
+        for (std::uint32_t k = begin[g]; k < begin[g + 1]; ++k) {
+            const std::uint32_t* v = &mesh.indices[3 * std::size_t(order[k])];
+            const Vec2 c = (mesh.domain[v[0]] + mesh.domain[v[1]] + mesh.domain[v[2]]) / 3.0f;
+            lo = glm::min(lo, c);
+            hi = glm::max(hi, c);
+        }
+        EXPECT_LE(std::min(hi.x - lo.x, hi.y - lo.y), 0.5f) << "group " << g;
+    }
+}
+
+TEST(PatchHierarchy, BytesAreNodesAndLeafLists) {
+    const MovingMesh mesh = movingGrid(4, 4);  // 32 triangles
+    std::vector<std::uint32_t> all(32);
+    for (std::size_t k = 0; k < all.size(); ++k) all[k] = std::uint32_t(k);
+    PatchHierarchy h;
+    h.build(mesh, all.data(), all.size(), 4);  // 8 leaves, 15 nodes
+    EXPECT_EQ(h.depth(), 3);
+    EXPECT_EQ(h.bytes(), 15 * sizeof(LBBox) + 32 * 2 + 9 * 2);
+    EXPECT_EQ(h.levelOf(0), 0);
+    EXPECT_EQ(h.levelOf(2), 1);
+    EXPECT_EQ(h.levelOf(PatchHierarchy::firstLeaf(3)), 3);
+}
+
+}  // namespace
+}  // namespace patchsim
