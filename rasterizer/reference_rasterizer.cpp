@@ -15,6 +15,17 @@ const Counter refTriangleTests{
     "Reference ray-triangle tests (every sample against every triangle)"};
 const Counter refHits{"REF/Visibility samples", "samples", "Reference samples that hit a surface"};
 
+}  // namespace
+
+const RatioCounter& referenceSampleTestEfficiency() {
+    static const RatioCounter ratio{"REF/Sample test efficiency",
+                                    "Reference visibility samples per ray-triangle test",
+                                    refHits, refTriangleTests};
+    return ratio;
+}
+
+namespace {
+
 // The hit of `ray` on triangle `tri` of `mesh` at the ray's time, if any.
 bool hitTriangle(const MovingMesh& mesh, std::uint32_t tri, const ShearedRay& sheared,
                  const Ray& ray, float lambdaMax, VisibilityRecord& record) {

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "pipeline/core/camera.h"
+#include "pipeline/core/counters.h"
 #include "pipeline/core/ray.h"
 #include "pipeline/core/samples.h"
 #include "rasterizer/moving_mesh.h"
@@ -18,6 +19,9 @@ namespace patchsim {
 struct ReferenceWork {
     std::int64_t samples = 0, triangleTests = 0, hits = 0;
 };
+
+// Reference visibility samples per ray-triangle test (every sample against every triangle).
+const RatioCounter& referenceSampleTestEfficiency();
 
 // Rows [y0, y1) of the frame; every sample's record becomes the nearest opaque hit over all
 // meshes, and every transparent hit in front of it goes to the transparent layers.

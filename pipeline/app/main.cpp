@@ -122,6 +122,7 @@ struct RenderCommand {
     CommonOptions common;
     std::string outputDir = "out";
     std::string method = "patch";
+    int timeStrata = 4;
     // Rasterizer options given on the command line override the scene's, by their table key.
     std::map<std::string, std::string> rasterizer;
     bool noTimeRefinement = false, noZCulling = false, quiet = false;
@@ -135,8 +136,12 @@ void addRenderOptions(CLI::App& cmd, RenderCommand& r) {
     addCommonOptions(cmd, r.common, /*effects=*/true);
     cmd.add_option("-o,--output", r.outputDir,
                    "Output folder for image.exr, image.png, stats.json");
-    cmd.add_option("--method", r.method, "Visibility method")
-        ->check(CLI::IsMember({"patch", "reference"}));
+    std::vector<std::string> methods;
+    for (const VisibilityMethodInfo& m : visibilityMethods()) methods.push_back(m.name);
+    cmd.add_option("--method", r.method, "Visibility method: " + visibilityMethodNames())
+        ->check(CLI::IsMember(methods));
+    cmd.add_option("--time-strata", r.timeStrata, "Time strata of the interval method")
+        ->check(CLI::Range(1, 64));
     for (const RasterizerOptionField& field : rasterizerOptionFields()) {
         cmd.add_option_function<std::string>(
             field.flag, [&r, key = field.key](const std::string& v) { r.rasterizer[key] = v; },
@@ -174,8 +179,8 @@ int runRender(const RenderCommand& r, const MpiContext& mpi) {
     }
     o.validate("command line");
     RenderOptions options;
-    options.method =
-        r.method == "reference" ? VisibilityMethod::Reference : VisibilityMethod::Patch;
+    parseVisibilityMethod(r.method, options.method);  // CLI11 checked the name
+    options.timeStrata = r.timeStrata;
     options.overrides = r.common.overrides;
     options.threads = mpi.threadsPerRank(r.common.threads);
     options.maxLayers = r.maxLayers;
@@ -222,7 +227,7 @@ int runRender(const RenderCommand& r, const MpiContext& mpi) {
     writePng(result.frame.color, outputs.file(png, "-o"));
     std::vector<std::string> heatMaps;
     if (result.pixels) heatMaps = writeHeatMaps(*result.pixels, r.outputDir, outputs);
-    const double ste = counters.ratio(sampleTestEfficiency());
+    const double ste = counters.ratio(sampleTestEfficiencyOf(options.method));
     StatsContext context{"render", scene.path, {}, &timing};
     context.facts = {{"method", visibilityMethodName(options.method)},
                      {"mode", describeMode(result.effects)},

@@ -25,10 +25,12 @@ constexpr const char* kOpNames[kOpCount] = {"patches",
                                             "ray_triangle_tests",
                                             "invocations",
                                             "depth_tests",
-                                            "transparent_fragments"};
+                                            "transparent_fragments",
+                                            "triangle_setups"};
 constexpr Stage kOpStages[kOpCount] = {
     Stage::IA, Stage::VS, Stage::HS, Stage::TS, Stage::TS, Stage::DS, Stage::DS, Stage::RS,
-    Stage::RS, Stage::RS, Stage::RS, Stage::RS, Stage::RS, Stage::PS, Stage::OM, Stage::OM};
+    Stage::RS, Stage::RS, Stage::RS, Stage::RS, Stage::RS, Stage::PS, Stage::OM, Stage::OM,
+    Stage::RS};
 
 int findOp(const std::string& name, Stage stage) {
     for (int k = 0; k < kOpCount; ++k)

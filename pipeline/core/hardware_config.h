@@ -32,10 +32,11 @@ enum class Op : std::uint8_t {
     RayBoxTests,          // RS
     RayTriangleTests,     // RS
     Invocations,          // PS
-    DepthTests,           // OM: visibility samples written
-    TransparentFragments  // OM
+    DepthTests,            // OM: visibility samples written
+    TransparentFragments,  // OM
+    TriangleSetups         // RS: triangle screen bounds (the bounding-box methods)
 };
-inline constexpr int kOpCount = 16;
+inline constexpr int kOpCount = 17;
 const char* opName(Op op);  // the JSON key, e.g. "ray_box_tests"
 Stage stageOf(Op op);
 

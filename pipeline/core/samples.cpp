@@ -61,6 +61,8 @@ SampleGenerator::SampleGenerator(std::uint64_t seed, int samplesPerPixel, const 
 }
 
 Sample SampleGenerator::sample(int x, int y, int index) const {
+    // Interleaved: every pixel draws from the stream of pixel (0, 0).
+    if (pattern_ == SamplePattern::Interleaved) x = y = 0;
     const std::uint64_t pixelKey =
         mix64(seed_ ^ mix64((std::uint64_t(std::uint32_t(x)) << 32) | std::uint32_t(y)));
     auto stream = [&](std::uint64_t dimension) {

@@ -27,8 +27,10 @@ struct Sample {
 // `Stratified` jitters inside each stratum (the default). `Grid` puts samples on the stratum
 // corners without jitter: pixel offsets k/n (so samples lie exactly on pixel and tile edges),
 // times and lens coordinates k/(n-1) (so t is exactly 0 and 1 for some samples). For hard-case
-// tests and studies of edge behaviour.
-enum class SamplePattern : std::uint8_t { Stratified, Grid };
+// tests and studies of edge behaviour. `Interleaved` gives sample index s the same (x, y, u, v, t)
+// offsets in every pixel, as an accumulation buffer renders s static passes, each at one time,
+// lens point and sub-pixel shift: constant cost, and strobing where things move.
+// (SamplePattern is declared with the film, in scene.h.)
 
 class SampleGenerator {
   public:

@@ -12,6 +12,29 @@ Mat4 TransformDesc::matrix() const {
     return glm::scale(m, scale);
 }
 
+const char* samplePatternName(SamplePattern p) {
+    switch (p) {
+        case SamplePattern::Stratified:
+            return "stratified";
+        case SamplePattern::Grid:
+            return "grid";
+        case SamplePattern::Interleaved:
+            return "interleaved";
+    }
+    return "?";
+}
+
+bool parseSamplePattern(const std::string& name, SamplePattern& out) {
+    for (SamplePattern p :
+         {SamplePattern::Stratified, SamplePattern::Grid, SamplePattern::Interleaved}) {
+        if (name == samplePatternName(p)) {
+            out = p;
+            return true;
+        }
+    }
+    return false;
+}
+
 const char* schemeName(SubdivisionScheme s) {
     switch (s) {
         case SubdivisionScheme::Catmark:

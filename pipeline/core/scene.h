@@ -46,12 +46,17 @@ struct ShutterDesc {
     float close = 1.0f;
 };
 
+// How samples are placed (pipeline/core/samples.h explains each).
+enum class SamplePattern : std::uint8_t { Stratified, Grid, Interleaved };
+const char* samplePatternName(SamplePattern p);
+bool parseSamplePattern(const std::string& name, SamplePattern& out);
+
 struct FilmDesc {
     int width = 320;
     int height = 240;
     int samplesPerPixel = 16;
     std::uint64_t seed = 1;
-    bool gridSamples = false;  // "sampler": "grid" (see SamplePattern) instead of "stratified"
+    SamplePattern sampler = SamplePattern::Stratified;
 };
 
 struct TessellationDesc {

@@ -61,10 +61,10 @@ void readFilm(ObjectReader r, FilmDesc& f) {
     f.samplesPerPixel = static_cast<int>(r.integer("spp", f.samplesPerPixel, 1, 4096));
     f.seed = static_cast<std::uint64_t>(r.integer("seed", static_cast<std::int64_t>(f.seed), 0,
                                                   std::numeric_limits<std::int64_t>::max()));
-    const std::string sampler = r.string("sampler", "stratified");
-    if (sampler != "stratified" && sampler != "grid")
-        r.fail(r.fieldName("sampler"), "unknown sampler '" + sampler + "' (stratified, grid)");
-    f.gridSamples = sampler == "grid";
+    const std::string sampler = r.string("sampler", samplePatternName(f.sampler));
+    if (!parseSamplePattern(sampler, f.sampler))
+        r.fail(r.fieldName("sampler"),
+               "unknown sampler '" + sampler + "' (stratified, grid, interleaved)");
     r.finish();
 }
 

@@ -89,6 +89,8 @@ std::string packFrameRows(const FrameRows& rows, const std::function<bool(int)>&
         out.put(-1);
     }
     out.putArray(rows.tileWork->data(), rows.tileWork->size());
+    out.put(rows.boundingWork->size());
+    out.putArray(rows.boundingWork->data(), rows.boundingWork->size());
     out.put(rows.counters->raw().size());
     out.putArray(rows.counters->raw().data(), rows.counters->raw().size());
     return out.take();
@@ -126,6 +128,10 @@ void unpackFrameRows(const std::string& bytes, const FrameRows& rows) {
     std::vector<RasterWork> work(rows.tileWork->size());
     in.getArray(work.data(), work.size());
     for (std::size_t i = 0; i < work.size(); ++i) (*rows.tileWork)[i].add(work[i]);
+    std::vector<BoundingWork> bounding(in.get<std::size_t>());
+    in.getArray(bounding.data(), bounding.size());
+    for (std::size_t i = 0; i < bounding.size() && i < rows.boundingWork->size(); ++i)
+        (*rows.boundingWork)[i].add(bounding[i]);
     std::vector<std::int64_t> counts(in.get<std::size_t>());
     in.getArray(counts.data(), counts.size());
     *rows.counters = CounterValues::fromRaw(std::move(counts));

@@ -16,6 +16,7 @@
 #include <string>
 #include <vector>
 
+#include "rasterizer/bounding_rasterizer.h"
 #include "rasterizer/pixel_counters.h"
 #include "rasterizer/raster_work.h"
 #include "rasterizer/transparent_layers.h"
@@ -27,7 +28,8 @@ struct FrameRows {
     VisibilityBuffer* visibility = nullptr;
     TransparentLayers* transparent = nullptr;     // may be null
     PixelCounters* pixels = nullptr;              // may be null
-    std::vector<RasterWork>* tileWork = nullptr;  // per patch
+    std::vector<RasterWork>* tileWork = nullptr;          // per patch (patch method)
+    std::vector<BoundingWork>* boundingWork = nullptr;    // per patch (bounding-box methods)
     CounterValues* counters = nullptr;  // packed: this rank's visibility counts; unpacked: merged
 };
 

@@ -9,6 +9,7 @@
 #include "pipeline/core/progress.h"
 #include "pipeline/driver/frame_share.h"
 #include "pipeline/driver/scene_info.h"
+#include "rasterizer/bounding_rasterizer.h"
 #include "rasterizer/frame_rasterizer.h"
 #include "rasterizer/reference_rasterizer.h"
 #include "tessellator/front_end.h"
@@ -67,13 +68,13 @@ std::vector<RasterWork> referencePatchWork(const std::vector<MovingMesh>& meshes
     return work;
 }
 
+// The front end's, the shader's and the output merger's share of each patch's work; the
+// visibility method adds its own (charge*).
 std::vector<PatchOps> collectPatchOps(const std::vector<TessellatedPatch>& patches,
-                                      const std::vector<RasterWork>& raster,
                                       const std::vector<double>& shading) {
     std::vector<PatchOps> ops(patches.size());
     for (std::size_t i = 0; i < patches.size(); ++i) {
         const TessellatedPatch& p = patches[i];
-        const RasterWork& w = raster[i];
         PatchOps& o = ops[i];
         const double points = double(p.tessellation.points.size());
         o[Op::Patches] = 1;
@@ -83,25 +84,48 @@ std::vector<PatchOps> collectPatchOps(const std::vector<TessellatedPatch>& patch
         o[Op::Triangles] = double(p.triangleCount());
         o[Op::Evaluations] = p.culled() ? 0 : points;
         o[Op::StencilApplications] = p.culled() ? 0 : 6 * points;
-        o[Op::NodesBuilt] = double(w.nodesBuilt);
-        o[Op::PlaneTests] = double(w.planeTests);
-        o[Op::TimeIntervals] = double(w.timeIntervals);
-        o[Op::SamplesTested] = double(w.samplesTested);
-        o[Op::RayBoxTests] = double(w.rayBoxTests);
-        o[Op::RayTriangleTests] = double(w.rayTriangleTests);
         o[Op::Invocations] = shading[i];
-        o[Op::DepthTests] = double(w.visibilitySamples);
-        o[Op::TransparentFragments] = double(w.transparentFragments);
-        o.hierarchyBytes = std::uint64_t(w.peakHierarchyBytes);
     }
     return ops;
+}
+
+void chargeRasterWork(const RasterWork& w, PatchOps& o) {
+    o[Op::NodesBuilt] = double(w.nodesBuilt);
+    o[Op::PlaneTests] = double(w.planeTests);
+    o[Op::TimeIntervals] = double(w.timeIntervals);
+    o[Op::SamplesTested] = double(w.samplesTested);
+    o[Op::RayBoxTests] = double(w.rayBoxTests);
+    o[Op::RayTriangleTests] = double(w.rayTriangleTests);
+    o[Op::DepthTests] = double(w.visibilitySamples);
+    o[Op::TransparentFragments] = double(w.transparentFragments);
+    o.hierarchyBytes = std::uint64_t(w.peakHierarchyBytes);
+}
+
+void chargeBoundingWork(const BoundingWork& w, PatchOps& o) {
+    o[Op::TriangleSetups] = double(w.triangleSetups);
+    o[Op::SamplesTested] = double(w.samplesTested);
+    o[Op::RayTriangleTests] = double(w.samplesTested);
+    o[Op::DepthTests] = double(w.visibilitySamples);
+    o[Op::TransparentFragments] = double(w.transparentFragments);
+}
+
+Bounding boundingOf(VisibilityMethod m) {
+    return m == VisibilityMethod::Interval      ? Bounding::Interval
+           : m == VisibilityMethod::Interleaved ? Bounding::Interleaved
+                                                : Bounding::TriangleBBox;
+}
+
+bool isBoundingMethod(VisibilityMethod m) {
+    return m == VisibilityMethod::TriangleBBox || m == VisibilityMethod::Interval ||
+           m == VisibilityMethod::Interleaved;
 }
 
 // Reference rows are dealt in this many horizontal bands, like the patch method's row classes.
 constexpr int kReferenceBands = kRowClasses;
 
 struct Visibility {
-    std::vector<RasterWork> hierarchies, tiles;  // per patch
+    std::vector<RasterWork> hierarchies, tiles;  // per patch (patch method)
+    std::vector<BoundingWork> bounding;          // per patch (bounding-box methods)
     std::function<bool(int y)> ownsPixelRow;     // rows this process filled
     std::function<bool(int ty)> ownsTileRow;
 };
@@ -143,7 +167,26 @@ Visibility runVisibility(const SceneDesc& scene, const RenderOptions& options,
         };
         return v;
     }
+    // The reference and the bounding-box methods work in horizontal bands of rows.
     const int height = scene.film.height;
+    v.hierarchies.resize(count);
+    v.tiles.resize(count);
+    v.ownsTileRow = [](int) { return false; };
+    v.ownsPixelRow = [ownsClass, height](int y) {
+        for (int band = 0; band < kReferenceBands; ++band)
+            if (y < (band + 1) * height / kReferenceBands) return ownsClass(band);
+        return false;
+    };
+    if (isBoundingMethod(options.method)) {
+        const RayCaster caster{camera, lens, samples, effects.motion, true};
+        BoundingOptions bounding;
+        bounding.method = boundingOf(options.method);
+        bounding.timeStrata = options.timeStrata;
+        bounding.threads = workers;
+        if (share.split()) bounding.ownsBand = ownsClass;
+        v.bounding = rasterizeByBounds(fe.meshes, caster, targets, bounding);
+        return v;
+    }
     const std::unique_ptr<ProgressShare> progressShare =
         share.progressShare ? share.progressShare() : nullptr;
     Progress progress("reference ", kReferenceBands, 1, options.progress, "bands",
@@ -159,23 +202,15 @@ Visibility runVisibility(const SceneDesc& scene, const RenderOptions& options,
         progress.advance();
     });
     progress.finish();
-    v.hierarchies.resize(count);
-    v.tiles.resize(count);
-    v.ownsTileRow = [](int) { return false; };
-    v.ownsPixelRow = [ownsClass, height](int y) {
-        // Band b holds rows [b h / B, (b+1) h / B): the band of row y.
-        int band = int(std::int64_t(y) * kReferenceBands / height);
-        while (band + 1 < kReferenceBands && (band + 1) * height / kReferenceBands <= y) ++band;
-        while (band > 0 && band * height / kReferenceBands > y) --band;
-        return ownsClass(band);
-    };
     return v;
 }
 
 }  // namespace
 
-const char* visibilityMethodName(VisibilityMethod m) {
-    return m == VisibilityMethod::Patch ? "patch" : "reference";
+const RatioCounter& sampleTestEfficiencyOf(VisibilityMethod method) {
+    if (method == VisibilityMethod::Patch) return sampleTestEfficiency();
+    if (method == VisibilityMethod::Reference) return referenceSampleTestEfficiency();
+    return boundingSampleTestEfficiency(boundingOf(method));
 }
 
 RenderResult renderScene(const SceneDesc& scene, const RenderOptions& options) {
@@ -198,9 +233,11 @@ RenderResult renderScene(const SceneDesc& scene, const RenderOptions& options) {
     result.frontEndSeconds = secondsSince(start);
 
     start = std::chrono::steady_clock::now();
-    const SampleGenerator samples(
-        scene.film.seed, scene.film.samplesPerPixel, result.effects,
-        scene.film.gridSamples ? SamplePattern::Grid : SamplePattern::Stratified);
+    // The interleaved method is an accumulation buffer: its samples repeat in every pixel.
+    const SampleGenerator samples(scene.film.seed, scene.film.samplesPerPixel, result.effects,
+                                  options.method == VisibilityMethod::Interleaved
+                                      ? SamplePattern::Interleaved
+                                      : scene.film.sampler);
     result.visibility = std::make_unique<VisibilityBuffer>(
         scene.film.width, scene.film.height, scene.film.samplesPerPixel, camera.farPlane());
     if (result.effects.transparency)
@@ -221,7 +258,7 @@ RenderResult renderScene(const SceneDesc& scene, const RenderOptions& options) {
         // their tile work and what their visibility step counted.
         CounterValues counts = CounterRegistry::instance().snapshot().since(beforeVisibility);
         const FrameRows rows{result.visibility.get(), result.transparent.get(), result.pixels.get(),
-                             &visibility.tiles, &counts};
+                             &visibility.tiles, &visibility.bounding, &counts};
         const std::vector<std::string> parts = share.gather(
             share.root() ? std::string()
                          : packFrameRows(rows, visibility.ownsPixelRow, visibility.ownsTileRow));
@@ -234,14 +271,23 @@ RenderResult renderScene(const SceneDesc& scene, const RenderOptions& options) {
             CounterRegistry::instance().merge(counts);
         }
     }
-    std::vector<RasterWork> rasterWork(result.patches);
+    std::vector<PatchOps> visibilityOps(result.patches);
     for (std::size_t i = 0; i < result.patches; ++i) {
-        visibility.hierarchies[i].flush();
-        rasterWork[i] = visibility.hierarchies[i];
-        rasterWork[i].add(visibility.tiles[i]);
+        if (options.method == VisibilityMethod::Patch) {
+            visibility.hierarchies[i].flush();
+            RasterWork work = visibility.hierarchies[i];
+            work.add(visibility.tiles[i]);
+            chargeRasterWork(work, visibilityOps[i]);
+        } else if (isBoundingMethod(options.method)) {
+            visibility.bounding[i].flush(boundingOf(options.method));
+            chargeBoundingWork(visibility.bounding[i], visibilityOps[i]);
+        }
     }
-    if (options.method == VisibilityMethod::Reference)
-        rasterWork = referencePatchWork(fe.meshes, *result.visibility, result.transparent.get());
+    if (options.method == VisibilityMethod::Reference) {
+        const std::vector<RasterWork> work =
+            referencePatchWork(fe.meshes, *result.visibility, result.transparent.get());
+        for (std::size_t i = 0; i < result.patches; ++i) chargeRasterWork(work[i], visibilityOps[i]);
+    }
     result.visibilitySeconds = secondsSince(start);
 
     start = std::chrono::steady_clock::now();
@@ -253,9 +299,15 @@ RenderResult renderScene(const SceneDesc& scene, const RenderOptions& options) {
     }
     result.shadingSeconds = secondsSince(start);
     result.patchOps =
-        collectPatchOps(fe.patches, rasterWork,
-                        shadingWorkPerPatch(*result.visibility, result.transparent.get(),
-                                            options.resolve.shadingRate, result.patches));
+        collectPatchOps(fe.patches, shadingWorkPerPatch(*result.visibility, result.transparent.get(),
+                                                        options.resolve.shadingRate, result.patches));
+    for (std::size_t i = 0; i < result.patches; ++i)
+        for (int op = 0; op < kOpCount; ++op)
+            if (stageOf(Op(op)) == Stage::RS || op == int(Op::DepthTests) ||
+                op == int(Op::TransparentFragments))
+                result.patchOps[i].ops[std::size_t(op)] += visibilityOps[i].ops[std::size_t(op)];
+    for (std::size_t i = 0; i < result.patches; ++i)
+        result.patchOps[i].hierarchyBytes = visibilityOps[i].hierarchyBytes;
     return result;
 }
 

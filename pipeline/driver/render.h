@@ -20,6 +20,7 @@
 #include "pipeline/core/progress.h"
 #include "pipeline/core/rasterizer_options.h"
 #include "pipeline/core/scene.h"
+#include "pipeline/core/visibility_method.h"
 #include "pipeline/driver/timing_model.h"
 #include "rasterizer/pixel_counters.h"
 #include "rasterizer/raster_work.h"
@@ -28,8 +29,6 @@
 
 namespace patchsim {
 
-enum class VisibilityMethod : std::uint8_t { Patch, Reference };
-const char* visibilityMethodName(VisibilityMethod m);
 
 // One frame split between `ranks` processes; `gather` brings every rank's bytes to rank 0 (in
 // rank order; empty on the others), as MPI_Gatherv does.
@@ -48,6 +47,7 @@ struct RenderOptions {
     EffectOverrides overrides;
     int threads = 0;
     int maxLayers = 16;  // transparent t-fragments kept per sample
+    int timeStrata = 4;  // the interval method's K
     ResolveOptions resolve;
     bool heatMaps = false;             // collect per-pixel work
     bool progress = false;             // progress bar (when standard error is a terminal)
@@ -70,5 +70,8 @@ struct RenderResult {
 };
 
 RenderResult renderScene(const SceneDesc& scene, const RenderOptions& options);
+
+// The sample test efficiency of a method's last frame, from its own counters.
+const RatioCounter& sampleTestEfficiencyOf(VisibilityMethod method);
 
 }  // namespace patchsim

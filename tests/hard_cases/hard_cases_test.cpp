@@ -66,7 +66,7 @@ std::string collapsedCage() {
 SceneDesc baseScene(const std::string& cage = torusCage()) {
     SceneDesc scene;
     scene.path = "hard case";
-    scene.film = {32, 24, 4, 9, false};
+    scene.film = {32, 24, 4, 9, SamplePattern::Stratified};
     scene.camera.open = {{0, 0, 5}, {0, 0, 0}, {0, 1, 0}};
     scene.camera.close = scene.camera.open;
     scene.tessellation.factor = 5;
@@ -117,7 +117,7 @@ TEST(HardCases, MotionAcrossTheWholeScreen) {
 TEST(HardCases, SubPixelTrianglesAtFactor64) {
     // 16 patches of 8192 triangles on about 12 x 12 pixels.
     SceneDesc scene = baseScene(flatGridCage());
-    scene.film = {24, 18, 2, 9, false};
+    scene.film = {24, 18, 2, 9, SamplePattern::Stratified};
     scene.tessellation.factor = 64;
     scene.objects[0].open.scale = scene.objects[0].close.scale = Vec3(0.6f);
     scene.objects[0].close.translate = {0.2f, 0, 0};
@@ -146,7 +146,7 @@ TEST(HardCases, SamplesExactlyOnTileAndPixelEdgesAndTimesExactlyZeroAndOne) {
     SceneDesc scene = baseScene(flatGridCage());
     scene.objects[0].open.rotateDegrees = scene.objects[0].close.rotateDegrees = {0, 0, 0};
     scene.objects[0].close.translate = {1, 0, 0};
-    scene.film.gridSamples = true;
+    scene.film.sampler = SamplePattern::Grid;
     scene.film.samplesPerPixel = 9;
     const SampleGenerator grid(1, 9, Effects{true, false, false}, SamplePattern::Grid);
     bool timeZero = false, timeOne = false, onEdge = false;
@@ -222,7 +222,7 @@ TEST(HardCases, RayDirectionComponentsOfPlusAndMinusZero) {
     }
     // A whole frame whose central rays have zero x and y components.
     SceneDesc scene = baseScene();
-    scene.film = {32, 24, 4, 3, true};
+    scene.film = {32, 24, 4, 3, SamplePattern::Grid};
     EXPECT_GT(hitsOf(scene, "axis-aligned rays"), 0u);
 }
 
@@ -232,7 +232,7 @@ TEST(HardCases, TessellationFactorsAtAndBeyondTheLimits) {
          {1.0f, 63.0f, 64.0f, 1e-7f, std::numeric_limits<float>::quiet_NaN(), inf, -inf, -3.0f}) {
         for (Partitioning mode : {Partitioning::Integer, Partitioning::FractionalOdd}) {
             SceneDesc scene = baseScene(flatGridCage());
-            scene.film = {16, 12, 2, 9, false};
+            scene.film = {16, 12, 2, 9, SamplePattern::Stratified};
             scene.objects[0].open.rotateDegrees = scene.objects[0].close.rotateDegrees = {30, 0, 0};
             scene.tessellation.factor = factor;
             scene.tessellation.partitioning = mode;
@@ -255,7 +255,7 @@ TEST(HardCases, WatertightSharedEdgesAtAnyTimeWithAndWithoutDefocus) {
         scene.objects[0].open.scale = scene.objects[0].close.scale = Vec3(2.5f);
         scene.objects[0].close.translate = {0.5f, 0, 0};  // stays over the screen centre
         scene.tessellation.factor = 4;
-        scene.film = {32, 24, 9, 2, true};
+        scene.film = {32, 24, 9, 2, SamplePattern::Grid};
         scene.lens = {aperture, 5.0f};
         const std::string what = "watertight, aperture " + std::to_string(aperture);
         expectStableAndExact(scene, what);

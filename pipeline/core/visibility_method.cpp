@@ -1,0 +1,47 @@
+#include "pipeline/core/visibility_method.h"
+
+namespace patchsim {
+
+const std::vector<VisibilityMethodInfo>& visibilityMethods() {
+    static const std::vector<VisibilityMethodInfo> methods = {
+        {VisibilityMethod::Patch, "patch", true, "US 8,791,945: moving-box hierarchy per patch"},
+        {VisibilityMethod::Reference, "reference", true,
+         "every sample against every triangle: the oracle"},
+        {VisibilityMethod::TriangleBBox, "triangle-bbox", true,
+         "Akenine-Moller et al. 2007, McGuire et al. 2010: each triangle's bounds over the shutter"},
+        {VisibilityMethod::Interval, "interval", true,
+         "Fatahalian et al. 2009: time strata, per-stratum bounds"},
+        {VisibilityMethod::Interleaved, "interleaved", false,
+         "accumulation buffer: one time and lens point per sample index in every pixel"},
+    };
+    return methods;
+}
+
+const VisibilityMethodInfo& methodInfo(VisibilityMethod m) {
+    for (const VisibilityMethodInfo& info : visibilityMethods())
+        if (info.method == m) return info;
+    return visibilityMethods().front();
+}
+
+const char* visibilityMethodName(VisibilityMethod m) {
+    return methodInfo(m).name;
+}
+
+bool parseVisibilityMethod(const std::string& name, VisibilityMethod& out) {
+    for (const VisibilityMethodInfo& info : visibilityMethods()) {
+        if (name == info.name) {
+            out = info.method;
+            return true;
+        }
+    }
+    return false;
+}
+
+std::string visibilityMethodNames() {
+    std::string names;
+    for (const VisibilityMethodInfo& info : visibilityMethods())
+        names += (names.empty() ? "" : ", ") + std::string(info.name);
+    return names;
+}
+
+}  // namespace patchsim
