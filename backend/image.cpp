@@ -56,6 +56,17 @@ std::vector<std::string> readChannelNames(const std::string& path) {
     return in->spec().channelnames;
 }
 
+std::vector<float> readChannel(const std::string& path, const std::string& name) {
+    auto in = OIIO::ImageInput::open(path);
+    if (!in) throw InputError(path, "", "cannot read image: " + OIIO::geterror());
+    const OIIO::ImageSpec& spec = in->spec();
+    const int c = spec.channelindex(name);
+    if (c < 0) throw InputError(path, name, "the image has no such channel");
+    std::vector<float> values(std::size_t(spec.width) * std::size_t(spec.height));
+    in->read_image(0, 0, c, c + 1, OIIO::TypeDesc::FLOAT, values.data());
+    return values;
+}
+
 Image readImage(const std::string& path) {
     auto in = OIIO::ImageInput::open(path);
     if (!in) throw InputError(path, "", "cannot read image: " + OIIO::geterror());

@@ -36,6 +36,8 @@ void writeFloatChannels(const std::string& path, int width, int height,
 void writePng(const Image& image, const std::string& path);
 Image readImage(const std::string& path);  // for tests and tools; float RGB
 std::vector<std::string> readChannelNames(const std::string& path);
+// One named channel of an image file, row-major; throws InputError when it has none.
+std::vector<float> readChannel(const std::string& path, const std::string& name);
 
 float linearToSrgb(float linear);
 

@@ -14,27 +14,6 @@ namespace patchsim {
 
 namespace {
 
-// X(field, "Name", "unit", "definition"): one list, one counter per method and field.
-#define PATCHSIM_BOUNDING_WORK(X)                                                                  \
-    X(triangleSetups, "Triangle setups", "setups",                                                 \
-      "Triangle screen bounds computed (per triangle; per time stratum; per interleaved pass)")     \
-    X(fullScreenBounds, "Full-screen bounds", "setups",                                            \
-      "Bounds that reached in front of the near plane: the whole screen")                          \
-    X(samplesTested, "Samples tested", "samples",                                                  \
-      "Sample-triangle pairs tested, one watertight ray-triangle test each")                       \
-    X(visibilitySamples, "Visibility samples", "samples",                                          \
-      "Tests that found a hit nearer than the sample's z-buffer entry")                            \
-    X(transparentFragments, "Transparent fragments", "fragments",                                  \
-      "Transparent hits offered to a sample's layers")                                             \
-    X(transparentOverflow, "Transparent overflow", "fragments",                                    \
-      "Transparent fragments dropped because a sample's layers were full")
-
-struct BoundingCounters {
-#define PATCHSIM_BOUNDING_HANDLE(field, name, unit, definition) Counter field;
-    PATCHSIM_BOUNDING_WORK(PATCHSIM_BOUNDING_HANDLE)
-#undef PATCHSIM_BOUNDING_HANDLE
-};
-
 #define PATCHSIM_BOUNDING_INIT(field, name, unit, definition) {PREFIX name, unit, definition},
 #define PREFIX "BB/"
 const BoundingCounters kTriangleBBox{PATCHSIM_BOUNDING_WORK(PATCHSIM_BOUNDING_INIT)};
@@ -47,11 +26,15 @@ const BoundingCounters kInterleaved{PATCHSIM_BOUNDING_WORK(PATCHSIM_BOUNDING_INI
 #undef PREFIX
 #undef PATCHSIM_BOUNDING_INIT
 
-const BoundingCounters& countersOf(Bounding m) {
+}  // namespace
+
+const BoundingCounters& boundingCounters(Bounding m) {
     return m == Bounding::TriangleBBox ? kTriangleBBox
            : m == Bounding::Interval   ? kInterval
                                        : kInterleaved;
 }
+
+namespace {
 
 // Pixels [x0, x1) x [y0, y1).
 struct PixelRect {
@@ -224,7 +207,7 @@ void BoundingWork::add(const BoundingWork& o) {
 }
 
 void BoundingWork::flush(Bounding method) const {
-    const BoundingCounters& c = countersOf(method);
+    const BoundingCounters& c = boundingCounters(method);
 #define PATCHSIM_BOUNDING_FLUSH(field, name, unit, definition) c.field += field;
     PATCHSIM_BOUNDING_WORK(PATCHSIM_BOUNDING_FLUSH)
 #undef PATCHSIM_BOUNDING_FLUSH

@@ -17,6 +17,11 @@ const Counter refHits{"REF/Visibility samples", "samples", "Reference samples th
 
 }  // namespace
 
+const ReferenceCounters& referenceCounters() {
+    static const ReferenceCounters counters{refSamples, refTriangleTests, refHits};
+    return counters;
+}
+
 const RatioCounter& referenceSampleTestEfficiency() {
     static const RatioCounter ratio{"REF/Sample test efficiency",
                                     "Reference visibility samples per ray-triangle test",

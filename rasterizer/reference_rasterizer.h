@@ -20,6 +20,13 @@ struct ReferenceWork {
     std::int64_t samples = 0, triangleTests = 0, hits = 0;
 };
 
+struct ReferenceCounters {
+    const Counter& samples;
+    const Counter& triangleTests;
+    const Counter& hits;
+};
+const ReferenceCounters& referenceCounters();
+
 // Reference visibility samples per ray-triangle test (every sample against every triangle).
 const RatioCounter& referenceSampleTestEfficiency();
 

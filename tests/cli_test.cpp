@@ -425,6 +425,53 @@ TEST(Cli, MpiRenderSplitsAFrameAndEqualsTheLocalRender) {
     EXPECT_EQ(WEXITSTATUS(status), 2) << "124 means a rank hung";
 }
 
+TEST(Cli, SweepWritesResultsImagesPlotsAndReusesTheConvergedImage) {
+    const std::string dir = patchsim::test::temporaryDirectory() + "/sweep";
+    fs::remove_all(dir);
+    const std::string scene = writeFile("sweep-scene.json", R"({"film": {"width": 48, "height": 32},
+        "lens": {"aperture_radius": 0.1, "focus_distance": 5},
+        "objects": [{"cage": ")" + sourcePath("scenes/cages/catmark_torus.obj") + R"(",
+                     "open": {"rotate_degrees": [60, 0, 0]}, "close": {"translate": [0.8, 0, 0]}}]})");
+    const std::string args = "sweep " + scene +
+                             " --methods patch,interval,interleaved --spp 1,4 --repeats 1 "
+                             "--blur 1,3 --no-progress -o " + dir;
+    CommandResult r = run(args);
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    EXPECT_NE(r.output.find("sweep-scene: converged image (64 spp, patch method) rendered"),
+              std::string::npos)
+        << r.output;
+    std::ifstream in(dir + "/results.csv");
+    std::string header;
+    std::getline(in, header);
+    EXPECT_EQ(header.rfind("scene,method,spp,wall_seconds,modelled_cycles,", 0), 0u) << header;
+    int rows = 0;
+    for (std::string line; std::getline(in, line);) ++rows;
+    EXPECT_EQ(rows, 2 * 3 * 2);  // blur levels x methods x spp
+    EXPECT_TRUE(fs::exists(dir + "/images/sweep-scene-blur3-interleaved-4.png"));
+    EXPECT_TRUE(fs::exists(dir + "/images/sweep-scene-converged.png"));
+    if (std::system("/usr/bin/python3 -c 'import matplotlib' > /dev/null 2>&1") == 0) {
+        for (const char* plot : {"sweep-scene.png", "sweep-scene.svg", "sweep-scene-blur3.png",
+                                 "sweep-scene-crops.png"})
+            EXPECT_TRUE(fs::exists(dir + "/plots/" + plot)) << plot << "\n" << r.output;
+    }
+    // Again, without a plotting library: the converged images are reused, the CSV still written.
+    fs::remove(dir + "/results.csv");
+    r = CommandResult{std::system(("PATCHSIM_PYTHON=/nonexistent " + std::string(PATCHSIM_BINARY) +
+                                   " " + args + " > " + dir + "/second.log 2>&1")
+                                      .c_str()),
+                      ""};
+    std::ifstream log(dir + "/second.log");
+    const std::string second((std::istreambuf_iterator<char>(log)), {});
+    EXPECT_NE(second.find("converged image (64 spp, patch method) reused"), std::string::npos)
+        << second;
+    EXPECT_NE(second.find("plots skipped: no Python with matplotlib"), std::string::npos) << second;
+    EXPECT_TRUE(fs::exists(dir + "/results.csv"));
+    r = run("sweep " + scene + " --methods patch,rasterize-harder -o " + dir);
+    EXPECT_EQ(r.exitCode, 2);
+    EXPECT_NE(r.output.find("--methods: unknown method 'rasterize-harder'"), std::string::npos)
+        << r.output;
+}
+
 TEST(Cli, RenderWithHardwareConfigAndTrace) {
     const std::string dir = patchsim::test::temporaryDirectory() + "/hw";
     const std::string hw = writeFile("slow_rs.json", R"({"clock_ghz": 1, "stages": {

@@ -22,6 +22,7 @@
 #include "pipeline/driver/render.h"
 #include "pipeline/driver/scene_info.h"
 #include "pipeline/driver/stats_report.h"
+#include "pipeline/driver/sweep.h"
 #include "pipeline/driver/tessellation_export.h"
 #include "rasterizer/tile_test_verifier.h"
 
@@ -331,6 +332,72 @@ int runExplore(const ExploreCommand& e, const MpiContext& mpi) {
     return 0;
 }
 
+struct SweepCommand {
+    std::vector<std::string> scenes;
+    std::string methods = "patch,triangle-bbox,interval,interleaved", spp = "1,4,16,64",
+                blur = "1", output = "sweep", hardware;
+    int repeats = 3, convergedSpp = 0, threads = 0, timeStrata = 4;
+    std::uint64_t memoryBudgetMiB = 4096;
+    bool noProgress = false;
+};
+
+std::vector<std::string> splitList(const std::string& text) {
+    std::vector<std::string> items;
+    std::stringstream in(text);
+    for (std::string item; std::getline(in, item, ',');)
+        if (!item.empty()) items.push_back(item);
+    return items;
+}
+
+int runSweepCommand(const SweepCommand& c) {
+    SweepOptions o;
+    for (const std::string& name : splitList(c.methods)) {
+        VisibilityMethod m;
+        if (!parseVisibilityMethod(name, m))
+            throw InputError("command line", "--methods",
+                             "unknown method '" + name + "' (" + visibilityMethodNames() + ")");
+        o.methods.push_back(m);
+    }
+    for (const std::string& text : splitList(c.spp)) {
+        const nlohmann::json v = optionValueFromText(text);
+        if (!v.is_number_integer() || v.get<std::int64_t>() < 1 || v.get<std::int64_t>() > 4096)
+            throw InputError("command line", "--spp", "'" + text + "' is not a whole number in [1, 4096]");
+        o.samplesPerPixel.push_back(int(v.get<std::int64_t>()));
+    }
+    std::vector<float> blurs;
+    for (const std::string& text : splitList(c.blur)) {
+        const nlohmann::json v = optionValueFromText(text);
+        if (!v.is_number() || !(v.get<double>() > 0) || v.get<double>() > 1e3)
+            throw InputError("command line", "--blur", "'" + text + "' is not a scale in (0, 1000]");
+        blurs.push_back(float(v.get<double>()));
+    }
+    if (o.methods.empty() || o.samplesPerPixel.empty() || blurs.empty())
+        throw InputError("command line", "--methods/--spp/--blur", "needs at least one value");
+    o.repeats = c.repeats;
+    o.convergedSamplesPerPixel = c.convergedSpp;
+    o.render.threads = c.threads;
+    o.render.timeStrata = c.timeStrata;
+    o.hardware = c.hardware.empty() ? defaultHardwareConfig() : readHardwareConfig(c.hardware);
+    o.limits = limitsOf(c.memoryBudgetMiB);
+    o.outputDir = c.output;
+    o.progress = !c.noProgress;
+    std::vector<SweepScene> scenes;
+    std::vector<std::string> paths = c.scenes;
+    if (paths.empty()) paths.push_back("");
+    for (const std::string& path : paths) {
+        const SceneDesc scene = path.empty() ? defaultScene(o.limits) : readSceneOrCage(path, o.limits);
+        const std::string stem =
+            path.empty() ? "default" : std::filesystem::path(path).stem().string();
+        for (float blur : blurs) {
+            char suffix[32] = "";
+            if (blur != 1.0f) std::snprintf(suffix, sizeof suffix, "-blur%g", double(blur));
+            scenes.push_back({stem + suffix, blur == 1.0f ? scene : scaleBlur(scene, blur)});
+        }
+    }
+    runSweep(scenes, o, std::cout);
+    return 0;
+}
+
 int runVerifyTiles(int cases, std::uint64_t seed) {
     const std::vector<TileTestReport> reports = verifyTileTests(cases, seed);
     bool anyFalseReject = false;
@@ -390,6 +457,38 @@ int main(int argc, char** argv) {
         ->check(CLI::PositiveNumber);
     verify->add_option("--seed", verifySeed, "Seed of the random cases");
 
+    SweepCommand sweepOptions;
+    CLI::App* sweep = app.add_subcommand(
+        "sweep", "Accuracy against time: every method at every sample count (docs/ACCURACY.md)");
+    sweep->add_option("scenes", sweepOptions.scenes,
+                      "Scene JSON files or cages (default: the built-in scene)");
+    sweep->add_option("--methods", sweepOptions.methods,
+                      "Comma-separated methods: " + visibilityMethodNames())
+        ->capture_default_str();
+    sweep->add_option("--spp", sweepOptions.spp, "Comma-separated samples per pixel")
+        ->capture_default_str();
+    sweep->add_option("--blur", sweepOptions.blur,
+                      "Comma-separated scales of every scene's motion and aperture")
+        ->capture_default_str();
+    sweep->add_option("-o,--output", sweepOptions.output,
+                      "Folder for results.csv, images/, plots/ and the converged cache")
+        ->capture_default_str();
+    sweep->add_option("--repeats", sweepOptions.repeats, "Renders per run; the median time counts")
+        ->check(CLI::Range(1, 100))
+        ->capture_default_str();
+    sweep->add_option("--converged-spp", sweepOptions.convergedSpp,
+                      "Samples per pixel of the converged image (0: 16 x the largest --spp)")
+        ->check(CLI::Range(0, 1 << 20));
+    sweep->add_option("--time-strata", sweepOptions.timeStrata, "K of the interval method")
+        ->check(CLI::Range(1, 64));
+    sweep->add_option("--threads", sweepOptions.threads, "Worker threads (0: all cores)")
+        ->check(kThreadCount);
+    sweep->add_option("--hw", sweepOptions.hardware, "Hardware configuration for modelled cycles");
+    sweep->add_option("--memory-budget-mib", sweepOptions.memoryBudgetMiB,
+                      "Largest film a run may ask for, in MiB of per-sample state")
+        ->check(kBudgetMiB);
+    sweep->add_flag("--no-progress", sweepOptions.noProgress, "No progress bar");
+
     ExploreCommand exploreOptions;
     CLI::App* explore =
         app.add_subcommand("explore", "Design-space sweep: one CSV row per grid point");
@@ -420,6 +519,7 @@ int main(int argc, char** argv) {
         if (*render) return runRender(renderOptions, mpi);
         if (*verify) return runVerifyTiles(verifyCases, verifySeed);
         if (*explore) return runExplore(exploreOptions, mpi);
+        if (*sweep) return runSweepCommand(sweepOptions);
         // No subcommand: the main job, a render of the built-in default scene into out/.
         const RenderCommand defaults;
         return runRender(defaults, mpi);

@@ -24,6 +24,12 @@ Progress::~Progress() {
     if (style_ != Style::Silent) draw(true);
 }
 
+void Progress::describe(std::string detail) {
+    std::lock_guard lock(mutex_);
+    detail_ = std::move(detail);
+    if (style_ == Style::Bar) draw(false);
+}
+
 void Progress::finish() {
     if (share_) share_->finish(done_.load());
 }
@@ -60,11 +66,12 @@ void Progress::draw(bool final) {
     for (int i = 0; i < kWidth; ++i) bar[i] = i < int(fraction * kWidth) ? '#' : '.';
     bar[kWidth] = 0;
     const bool redraw = style_ == Style::Bar;
-    std::fprintf(stderr, "%s%s [%s] %3d%%  %lld/%lld %s  %s %.1f s%s", redraw ? "\r" : "",
-                 label_.c_str(), bar, int(fraction * 100.0),
+    std::fprintf(stderr, "%s%s [%s] %3d%%  %lld/%lld %s  %s %.1f s%s%s%s",
+                 redraw ? "\r\033[K" : "", label_.c_str(), bar, int(fraction * 100.0),
                  static_cast<long long>(done / unitsPerItem_),
                  static_cast<long long>(total_ / unitsPerItem_), items_.c_str(),
-                 final ? "took" : "left", final ? elapsed : left, final || !redraw ? "\n" : "  ");
+                 final ? "took" : "left", final ? elapsed : left, detail_.empty() ? "" : "  ",
+                 final ? "" : detail_.c_str(), final || !redraw ? "\n" : "");
     std::fflush(stderr);
 }
 

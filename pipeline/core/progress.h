@@ -32,6 +32,8 @@ class Progress {
              std::string items = "patches", ProgressShare* share = nullptr);
     ~Progress();
     void advance(std::int64_t units = 1);
+    // What is being worked on now (e.g. the run of a sweep), shown after the bar.
+    void describe(std::string detail);
     // Collective when shared: after this process's last unit, waits for the others' last ones.
     void finish();
     static bool terminalAttached();
@@ -44,6 +46,7 @@ class Progress {
     std::string label_;
     std::int64_t total_, unitsPerItem_;
     std::string items_;
+    std::string detail_;
     Style style_;
     ProgressShare* share_;
     std::atomic<std::int64_t> done_{0};

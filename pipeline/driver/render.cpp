@@ -213,6 +213,23 @@ const RatioCounter& sampleTestEfficiencyOf(VisibilityMethod method) {
     return boundingSampleTestEfficiency(boundingOf(method));
 }
 
+VisibilityTotals visibilityTotals(const CounterValues& v, VisibilityMethod method) {
+    VisibilityTotals t;
+    t.sampleTestEfficiency = v.ratio(sampleTestEfficiencyOf(method));
+    if (method == VisibilityMethod::Patch) {
+        const RasterCounters& c = rasterCounters();
+        t = {v[c.samplesTested], v[c.raysCast], v[c.visibilitySamples], t.sampleTestEfficiency};
+    } else if (method == VisibilityMethod::Reference) {
+        const ReferenceCounters& c = referenceCounters();
+        t = {v[c.samples], v[c.samples], v[c.hits], t.sampleTestEfficiency};
+    } else {
+        const BoundingCounters& c = boundingCounters(boundingOf(method));
+        t = {v[c.samplesTested], v[c.samplesTested], v[c.visibilitySamples],
+             t.sampleTestEfficiency};
+    }
+    return t;
+}
+
 RenderResult renderScene(const SceneDesc& scene, const RenderOptions& options) {
     scene.rasterizer.validate(scene.path);
     if (options.maxLayers < 1 || options.maxLayers > 255)

@@ -74,4 +74,13 @@ RenderResult renderScene(const SceneDesc& scene, const RenderOptions& options);
 // The sample test efficiency of a method's last frame, from its own counters.
 const RatioCounter& sampleTestEfficiencyOf(VisibilityMethod method);
 
+// A method's visibility work in a frame, from its own counters: samples tested (for the
+// bounding methods, sample-triangle pairs), rays (or ray-triangle tests where every test is its
+// own ray), visibility samples.
+struct VisibilityTotals {
+    std::int64_t samplesTested = 0, rays = 0, visibilitySamples = 0;
+    double sampleTestEfficiency = 0;
+};
+VisibilityTotals visibilityTotals(const CounterValues& values, VisibilityMethod method);
+
 }  // namespace patchsim

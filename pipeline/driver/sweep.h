@@ -1,0 +1,59 @@
+#pragma once
+// `patchsim sweep`: what accuracy costs in time (SPEC section 9). Every scene, at every blur
+// level, is rendered by every method at every sample count; each run's error against the
+// converged image (converged_image.h), its wall time (median of repeats), its modelled cycles
+// and its work go into one CSV row. Images of every run are kept, and plots are drawn by
+// scripts/plot_sweep.py (matplotlib) when Python has it.
+//
+// Everything but the wall time is a pure function of the scene and the settings: the CSV is the
+// same for any thread count apart from that column.
+
+#include <string>
+#include <vector>
+
+#include "pipeline/core/hardware_config.h"
+#include "pipeline/core/scene.h"
+#include "pipeline/core/scene_reader.h"
+#include "pipeline/core/visibility_method.h"
+#include "pipeline/driver/render.h"
+
+namespace patchsim {
+
+struct SweepScene {
+    std::string label;  // file stem, and "-blur<scale>" when the blur is scaled
+    SceneDesc scene;
+};
+
+// The scene with its motion (object and camera keyframe differences) and its aperture scaled.
+SceneDesc scaleBlur(const SceneDesc& scene, float scale);
+
+struct SweepOptions {
+    std::vector<VisibilityMethod> methods;
+    std::vector<int> samplesPerPixel;
+    int repeats = 3;
+    int convergedSamplesPerPixel = 0;  // 0: 16 x the largest of `samplesPerPixel`
+    RenderOptions render;              // threads, strata, filter (method and spp are the sweep's)
+    HardwareConfig hardware;
+    SceneLimits limits;
+    std::string outputDir;
+    bool progress = true;
+};
+
+struct SweepRow {
+    std::string scene, method;
+    int spp = 0;
+    double wallSeconds = 0, modelledCycles = 0;
+    VisibilityTotals visibility;
+    std::int64_t shadingInvocations = 0;
+    double rmse = 0, psnr = 0, ssim = 1, coverageError = 0;
+};
+
+std::string sweepCsvHeader();
+std::string sweepCsvRow(const SweepRow& row);
+
+// Runs the sweep; writes OUT/results.csv, OUT/images, OUT/converged (the cache) and, with
+// matplotlib, OUT/plots. Returns the rows. `log` receives one line per step worth telling.
+std::vector<SweepRow> runSweep(const std::vector<SweepScene>& scenes, const SweepOptions& options,
+                               std::ostream& log);
+
+}  // namespace patchsim
