@@ -4,6 +4,8 @@
 
 #include "pipeline/core/parallel.h"
 #include "pipeline/core/progress.h"
+#include "rasterizer/tile_samples.h"
+#include "rasterizer/z_culling.h"
 
 namespace patchsim {
 
@@ -42,6 +44,9 @@ FrameRasterWork rasterizeFrame(const std::vector<MovingMesh>& meshes,
     work.hierarchies.resize(meshes.size());
     work.tiles.resize(meshes.size());
     const auto groups = prepareGroups(meshes, rasterizer, options.threads, work.hierarchies);
+    const TileSamples tileSamples(rasterizer.tileGrid(), rasterizer.caster().camera,
+                                  rasterizer.caster().samples, options.threads);
+    TileDepthBounds depthBounds(rasterizer.tileGrid(), *targets.opaque);
     // Tile work per row class and patch (fixed slots), added up in a fixed order afterwards.
     std::vector<std::vector<RasterWork>> classWork(kRowClasses,
                                                    std::vector<RasterWork>(meshes.size()));
@@ -51,6 +56,8 @@ FrameRasterWork rasterizeFrame(const std::vector<MovingMesh>& meshes,
         if (options.ownsRowClass && !options.ownsRowClass(rowClass)) return;
         VisibilityTargets mine = targets;
         mine.pool = rowClass;
+        mine.tileSamples = &tileSamples;
+        mine.depthBounds = &depthBounds;
         for (std::size_t i : order) {
             RasterWork& tileWork = classWork[rowClassIndex][i];
             for (const PatchRasterizer::Group& group : groups[i]) {

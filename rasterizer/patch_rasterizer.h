@@ -40,11 +40,13 @@ class PatchRasterizer {
     };
     void prepareGroup(const MovingMesh& mesh, const std::uint32_t* triangles, std::size_t count,
                       Group& group, RasterWork& work) const;
+    // `targets` must carry the frame's tile samples and tile depth bounds.
     void rasterizeTile(const MovingMesh& mesh, const Group& group, int tileX, int tileY,
                        const VisibilityTargets& targets, RasterWork& work) const;
 
     const RasterizerOptions& options() const { return options_; }
     const TileGrid& tileGrid() const { return grid_; }
+    const RayCaster& caster() const { return caster_; }
 
   private:
     RayCaster caster_;

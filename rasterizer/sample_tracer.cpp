@@ -1,6 +1,7 @@
 #include "rasterizer/sample_tracer.h"
 
 #include "rasterizer/moving_box_ray.h"
+#include "rasterizer/tile_samples.h"
 #include "rasterizer/watertight_triangle.h"
 #include "rasterizer/z_culling.h"
 
@@ -41,76 +42,76 @@ void forEachLeafHit(const MovingMesh& mesh, const std::uint32_t* triangles, std:
 }  // namespace
 
 void traceTileSamples(const RayCaster& caster, const MovingMesh& mesh, const PatchHierarchy& h,
-                      const TileRect& tile, const TileTraversal& traversal, int branchNode,
+                      int tileX, int tileY, const TileTraversal& traversal, int branchNode,
                       const VisibilityTargets& targets, RasterWork& work) {
     VisibilityBuffer& buffer = *targets.opaque;
     PixelCounters* pixels = targets.pixels;
     const bool everyHit = !mesh.opaque && targets.transparent != nullptr;
-    const int spp = buffer.samplesPerPixel();
     const int firstLeaf = PatchHierarchy::firstLeaf(h.depth());
-    for (int y = tile.y0; y < tile.y1; ++y) {
-        for (int x = tile.x0; x < tile.x1; ++x) {
-            RasterWork pixelStart;  // only read for heat maps
-            if (pixels) pixelStart = work;
-            for (int s = 0; s < spp; ++s) {
-                ++work.samplesTested;
-                const Sample smp = caster.samples.sample(x, y, s);
-                if (caster.motion && !traversal.times.contains(smp.time)) {
-                    ++work.samplesRejectedTime;
-                    continue;
-                }
-                const Vec2 screen =
-                    rasterToScreen(caster.camera, Vec2(float(x), float(y)) + smp.pixelOffset);
-                Ray ray = makeCameraRay(caster.camera, screen, concentricDisk(smp.lens), smp.time,
-                                        caster.lens);
-                ++work.raysCast;
-                const float bound = caster.zCulling || everyHit ? buffer.depthBound(x, y, s)
-                                                                : caster.camera.farPlane();
-                ray.lambdaMax = rayEndAtDepth(bound, ray.depthPerLambda);
-                const SlabRay slab = makeSlabRay(ray);
-                VisibilityRecord sample;
-                sample.time = smp.time;
-                sample.lens = smp.lens;
-                VisibilityRecord best = buffer.at(x, y, s);
-                const VisibilityRecord previous = best;
-                const std::size_t sampleIndex = buffer.index(x, y, s);
-                int stack[2 * kMaxLeavesPerHierarchy];
-                int top = 0;
-                stack[top++] = branchNode;
-                while (top > 0) {
-                    const int node = stack[--top];
-                    ++work.rayBoxTests;
-                    if (!hitsMovingBox(slab, h.node(node))) continue;
-                    if (!h.isLeaf(node)) {
-                        stack[top++] = 2 * node + 2;
-                        stack[top++] = 2 * node + 1;
-                        continue;
-                    }
-                    std::size_t count;
-                    const std::uint32_t* tris = h.leafTriangles(node - firstLeaf, count);
-                    work.rayTriangleTests += std::int64_t(count);
-                    if (everyHit) {
-                        forEachLeafHit(
-                            mesh, tris, count, ray, sample, [&](const VisibilityRecord& hit) {
-                                ++work.transparentFragments;
-                                if (!targets.transparent->offer(sampleIndex, targets.pool,
-                                                                LayerFragment{hit, mesh.objectId}))
-                                    ++work.transparentOverflow;
-                            });
-                    } else {
-                        forEachLeafHit(mesh, tris, count, ray, sample,
-                                       [&](const VisibilityRecord& hit) {
-                                           if (hit.nearerThan(best)) best = hit;
-                                       });
-                    }
-                }
-                if (best.patch != previous.patch || best.triangle != previous.triangle ||
-                    best.depth != previous.depth) {
-                    ++work.visibilitySamples;
-                    buffer.offer(x, y, s, best);
-                }
+    const std::span<const TileSample> tile = targets.tileSamples->tile(tileX, tileY);
+    const std::span<const TileSample> samples =
+        caster.motion ? targets.tileSamples->inTime(tileX, tileY, traversal.times) : tile;
+    work.samplesTested += std::int64_t(samples.size());
+    work.samplesRejectedTime += std::int64_t(tile.size() - samples.size());
+    std::vector<VisibilityRecord>& records = buffer.mutableRecords();
+    const std::size_t spp = std::size_t(buffer.samplesPerPixel());
+    for (const TileSample& smp : samples) {
+        RasterWork sampleStart;  // only read for heat maps
+        if (pixels) {
+            sampleStart = work;
+            --sampleStart.samplesTested;  // this sample
+        }
+        Ray ray = TileSamples::ray(smp, caster.camera, caster.lens);
+        ++work.raysCast;
+        VisibilityRecord& stored = records[smp.record];
+        const float previousBound = buffer.depthBound(stored);
+        const float bound = caster.zCulling || everyHit ? previousBound : caster.camera.farPlane();
+        ray.lambdaMax = rayEndAtDepth(bound, ray.depthPerLambda);
+        const SlabRay slab = makeSlabRay(ray);
+        VisibilityRecord sample;
+        sample.time = smp.time;
+        sample.lens = smp.lens;
+        VisibilityRecord best = stored;
+        int stack[2 * kMaxLeavesPerHierarchy];
+        int top = 0;
+        stack[top++] = branchNode;
+        while (top > 0) {
+            const int node = stack[--top];
+            ++work.rayBoxTests;
+            if (!hitsMovingBox(slab, h.node(node))) continue;
+            if (!h.isLeaf(node)) {
+                stack[top++] = 2 * node + 2;
+                stack[top++] = 2 * node + 1;
+                continue;
             }
-            if (pixels) pixels->record(x, y, pixelStart, work);
+            std::size_t count;
+            const std::uint32_t* tris = h.leafTriangles(node - firstLeaf, count);
+            work.rayTriangleTests += std::int64_t(count);
+            if (everyHit) {
+                forEachLeafHit(mesh, tris, count, ray, sample, [&](const VisibilityRecord& hit) {
+                    ++work.transparentFragments;
+                    if (!targets.transparent->offer(smp.record, targets.pool,
+                                                    LayerFragment{hit, mesh.objectId}))
+                        ++work.transparentOverflow;
+                });
+            } else {
+                forEachLeafHit(mesh, tris, count, ray, sample, [&](const VisibilityRecord& hit) {
+                    if (hit.nearerThan(best)) best = hit;
+                });
+            }
+        }
+        if (best.patch != stored.patch || best.triangle != stored.triangle ||
+            best.depth != stored.depth) {
+            ++work.visibilitySamples;
+            if (best.nearerThan(stored)) {
+                stored = best;
+                targets.depthBounds->lowered(tileX, tileY, previousBound);
+            }
+        }
+        if (pixels) {
+            const std::size_t pixel = smp.record / spp;
+            pixels->record(int(pixel % std::size_t(buffer.width())),
+                           int(pixel / std::size_t(buffer.width())), sampleStart, work);
         }
     }
 }

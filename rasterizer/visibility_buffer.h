@@ -56,15 +56,14 @@ class VisibilityBuffer {
     const VisibilityRecord& at(int x, int y, int s) const { return records_[index(x, y, s)]; }
     VisibilityRecord& at(int x, int y, int s) { return records_[index(x, y, s)]; }
     // Current depth bound for z culling: the record's depth, or the far plane before any hit.
-    float depthBound(int x, int y, int s) const {
-        const float d = records_[index(x, y, s)].depth;
-        return d < far_ ? d : far_;
-    }
+    float depthBound(int x, int y, int s) const { return depthBound(records_[index(x, y, s)]); }
+    float depthBound(const VisibilityRecord& r) const { return r.depth < far_ ? r.depth : far_; }
     void offer(int x, int y, int s, const VisibilityRecord& hit) {
         VisibilityRecord& r = records_[index(x, y, s)];
         if (hit.nearerThan(r)) r = hit;
     }
     const std::vector<VisibilityRecord>& records() const { return records_; }
+    std::vector<VisibilityRecord>& mutableRecords() { return records_; }
 
   private:
     int width_, height_, spp_;

@@ -13,4 +13,16 @@ float tileDepthBound(const VisibilityBuffer& buffer, const TileRect& tile) {
     return deepest;
 }
 
+TileDepthBounds::TileDepthBounds(const TileGrid& grid, const VisibilityBuffer& buffer)
+    : grid_(grid), buffer_(buffer), bound_(grid.tileCount(), 0.0f), stale_(grid.tileCount(), 1) {}
+
+float TileDepthBounds::bound(int tx, int ty) {
+    const std::size_t t = grid_.index(tx, ty);
+    if (stale_[t]) {
+        bound_[t] = tileDepthBound(buffer_, grid_.rect(tx, ty));
+        stale_[t] = 0;
+    }
+    return bound_[t];
+}
+
 }  // namespace patchsim

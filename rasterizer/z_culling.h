@@ -5,6 +5,9 @@
 // slightly widened so that a hit at exactly that depth still reaches the (depth, patch, triangle)
 // tie-break of the visibility buffer.
 
+#include <cstdint>
+#include <vector>
+
 #include "rasterizer/conservative_margins.h"
 #include "rasterizer/tile_grid.h"
 #include "rasterizer/visibility_buffer.h"
@@ -13,6 +16,26 @@ namespace patchsim {
 
 // The deepest depth bound over the tile's samples.
 float tileDepthBound(const VisibilityBuffer& buffer, const TileRect& tile);
+
+// The tiles' depth bounds, kept up to date as samples are written instead of rescanned for every
+// group that visits a tile: a tile is rescanned only when a sample that held its bound got nearer.
+// A tile is only touched by the worker that owns it.
+class TileDepthBounds {
+  public:
+    TileDepthBounds(const TileGrid& grid, const VisibilityBuffer& buffer);
+    float bound(int tx, int ty);
+    // A sample of the tile, whose depth bound was `previous`, got nearer.
+    void lowered(int tx, int ty, float previous) {
+        const std::size_t t = grid_.index(tx, ty);
+        if (previous >= bound_[t]) stale_[t] = 1;
+    }
+
+  private:
+    TileGrid grid_;
+    const VisibilityBuffer& buffer_;
+    std::vector<float> bound_;
+    std::vector<std::uint8_t> stale_;
+};
 
 // The ray parameter of a depth bound, for a ray with the given depth per unit of parameter.
 inline float rayEndAtDepth(float depth, float depthPerLambda) {

@@ -1,9 +1,11 @@
 #pragma once
-// Runs work items on a fixed number of threads. Items are handed out in contiguous chunks in a
-// fixed order, each item's result lands in its own slot, and every worker flushes its counters
-// when it is done: results and counters do not depend on the thread count.
+// Runs work items on a fixed number of threads. Idle workers take the next item (dynamic
+// scheduling, so uneven items keep every thread busy); each item's result lands in its own slot,
+// and every worker flushes its counters when it is done: results and counters do not depend on
+// the thread count or on which worker ran which item.
 
 #include <algorithm>
+#include <atomic>
 #include <cstddef>
 #include <exception>
 #include <mutex>
@@ -29,13 +31,13 @@ void parallelFor(std::size_t count, int threads, const Body& body) {
         return;
     }
     std::vector<std::thread> pool;
+    std::atomic<std::size_t> next{0};
     std::exception_ptr failure;
     std::mutex failureMutex;
     for (std::size_t w = 0; w < workers; ++w) {
         pool.emplace_back([&, w] {
             try {
-                for (std::size_t i = w * count / workers; i < (w + 1) * count / workers; ++i)
-                    body(int(w), i);
+                for (std::size_t i = next++; i < count; i = next++) body(int(w), i);
             } catch (...) {
                 std::lock_guard lock(failureMutex);
                 if (!failure) failure = std::current_exception();
