@@ -38,8 +38,10 @@ struct FarLimitEvaluator::Impl {
     std::unique_ptr<const osd::Far::PatchTable> patches;
     std::unique_ptr<const osd::Far::PatchMap> map;
     // Refined vertices (past the cage's) in cage vertices; end-cap points in refined vertices.
-    std::unique_ptr<const osd::Far::StencilTable> refined;
-    const osd::Far::StencilTable* local = nullptr;  // owned by `patches`
+    // The template types, not Far::StencilTable: OpenSubdiv's wrappers downcast a
+    // StencilTableReal<float> to StencilTable, which is undefined behaviour (UBSan stops on it).
+    std::unique_ptr<const osd::Far::StencilTableReal<float>> refined;
+    const osd::Far::StencilTableReal<float>* local = nullptr;  // owned by `patches`
     int refinedVertices = 0;                        // cage and refined vertices
     std::unique_ptr<osd::Far::PtexIndices> ptex;
     osd::Sdc::SchemeType scheme = osd::Sdc::SCHEME_CATMARK;
@@ -76,11 +78,12 @@ FarLimitEvaluator::FarLimitEvaluator(
     osd::Far::PatchTableFactory::Options patchOptions(kSharpIsolationLevel);
     patchOptions.endCapType = osd::Far::PatchTableFactory::Options::ENDCAP_GREGORY_BASIS;
     impl_->patches.reset(osd::Far::PatchTableFactory::Create(*impl_->refiner, patchOptions));
-    osd::Far::StencilTableFactory::Options stencilOptions;
+    osd::Far::StencilTableFactoryReal<float>::Options stencilOptions;
     stencilOptions.generateIntermediateLevels = true;
     stencilOptions.generateOffsets = true;
-    impl_->refined.reset(osd::Far::StencilTableFactory::Create(*impl_->refiner, stencilOptions));
-    impl_->local = impl_->patches->GetLocalPointStencilTable();
+    impl_->refined.reset(
+        osd::Far::StencilTableFactoryReal<float>::Create(*impl_->refiner, stencilOptions));
+    impl_->local = impl_->patches->GetLocalPointStencilTable<float>();
     impl_->refinedVertices = impl_->refiner->GetNumVerticesTotal();
     impl_->map = std::make_unique<osd::Far::PatchMap>(*impl_->patches);
     impl_->ptex = std::make_unique<osd::Far::PtexIndices>(*impl_->refiner);
@@ -144,7 +147,7 @@ void FarLimitEvaluator::evaluate(int face, const float faceUV[2], LimitStencil& 
             return;
         }
         const bool isLocal = point >= impl_->refinedVertices;
-        const osd::Far::Stencil s = isLocal
+        const osd::Far::StencilReal<float> s = isLocal
                                         ? impl_->local->GetStencil(point - impl_->refinedVertices)
                                         : impl_->refined->GetStencil(point - impl_->baseVertices);
         const int* vertices = s.GetVertexIndices();

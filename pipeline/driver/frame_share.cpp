@@ -23,7 +23,9 @@ class Writer {
     std::string take() { return std::move(bytes_); }
 
   private:
-    void putBytes(const void* p, std::size_t n) { bytes_.append(static_cast<const char*>(p), n); }
+    void putBytes(const void* p, std::size_t n) {
+        if (n > 0) bytes_.append(static_cast<const char*>(p), n);
+    }
     std::string bytes_;
 };
 
@@ -45,6 +47,7 @@ class Reader {
   private:
     void getBytes(void* p, std::size_t n) {
         if (at_ + n > bytes_.size()) throw std::runtime_error("truncated frame rows");
+        if (n == 0) return;  // an empty array may have no storage: memcpy from/to null is undefined
         std::memcpy(p, bytes_.data() + at_, n);
         at_ += n;
     }
