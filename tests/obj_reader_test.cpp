@@ -88,6 +88,25 @@ TEST(ObjReader, ErrorsNameFileLineAndColumn) {
         std::string::npos);
 }
 
+TEST(ObjReader, TagCountsAndValuesOutOfRangeAreErrorsNotOverflow) {
+    const std::string triangle = "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
+    // Found by fuzzing: two counts near INT_MAX summed in int (undefined behaviour).
+    EXPECT_NE(errorOf(triangle + "t crease 1174871153/0/1174871153 0 1\n")
+                  .find("line 5, column 10: tag counts must be nint/nfloat/nstring, each 0 to"),
+              std::string::npos);
+    EXPECT_NE(errorOf(triangle + "t crease 99999999999999999999/0/0 0\n").find("line 5, column 10: expected an integer"),
+              std::string::npos);
+    EXPECT_NE(errorOf(triangle + "t crease 2/1\n").find("must be nint/nfloat/nstring"),
+              std::string::npos);
+    EXPECT_NE(errorOf(triangle + "t crease 2/1/0/4 0 1 2\n").find("must be nint/nfloat/nstring"),
+              std::string::npos);
+    EXPECT_NE(errorOf(triangle + "t crease -2/1/0 0 1 2\n").find("must be nint/nfloat/nstring"),
+              std::string::npos);
+    EXPECT_NE(errorOf(triangle + "t corner 1/1/0 4294967297 1.0\n")
+                  .find("line 5, column 16: tag value 4294967297 is out of range"),
+              std::string::npos);
+}
+
 TEST(ObjReader, RejectsEmptyAndBrokenMeshes) {
     EXPECT_NE(errorOf("").find("no vertices"), std::string::npos);
     EXPECT_NE(errorOf("v 0 0 0\n").find("no faces"), std::string::npos);

@@ -2,6 +2,7 @@
 
 #include <charconv>
 #include <cmath>
+#include <limits>
 #include <map>
 #include <utility>
 
@@ -11,6 +12,10 @@
 namespace patchsim {
 
 namespace {
+
+// A tag's values of one kind: far more than any crease or corner list, and small enough that the
+// three counts add up without overflow.
+constexpr int kMaxTagValues = 1 << 24;
 
 struct Token {
     std::string_view text;
@@ -110,15 +115,34 @@ class ObjParser {
         faceLines_.push_back(line_);
     }
 
+    struct TagCounts {
+        int ints, floats, strings;
+    };
+
+    // "nint/nfloat/nstring", each a whole number from 0 to kMaxTagValues.
+    TagCounts tagCounts(const Token& counts) const {
+        const std::string_view text = counts.text;
+        const std::size_t a = text.find('/'), b = text.find('/', a == text.npos ? a : a + 1);
+        if (a == text.npos || b == text.npos || text.find('/', b + 1) != text.npos)
+            fail(counts.column, "tag counts must be nint/nfloat/nstring");
+        const std::string_view parts[3] = {text.substr(0, a), text.substr(a + 1, b - a - 1),
+                                           text.substr(b + 1)};
+        int values[3];
+        for (int k = 0; k < 3; ++k) {
+            const long v = integer(parts[k], counts.column);
+            if (v < 0 || v > long(kMaxTagValues))
+                fail(counts.column, "tag counts must be nint/nfloat/nstring, each 0 to " +
+                                        std::to_string(kMaxTagValues));
+            values[k] = int(v);
+        }
+        return {values[0], values[1], values[2]};
+    }
+
     void parseTag(const std::vector<Token>& tokens) {
         if (tokens.size() < 3) fail(tokens[0].column, "tag needs a name and nint/nfloat/nstring");
         const std::string name(tokens[1].text);
         const Token& counts = tokens[2];
-        int nint = 0, nfloat = 0, nstring = 0;
-        if (std::sscanf(std::string(counts.text).c_str(), "%d/%d/%d", &nint, &nfloat, &nstring) !=
-                3 ||
-            nint < 0 || nfloat < 0 || nstring < 0)
-            fail(counts.column, "tag counts must be nint/nfloat/nstring");
+        const auto [nint, nfloat, nstring] = tagCounts(counts);
         if (tokens.size() != 3u + std::size_t(nint + nfloat + nstring))
             fail(counts.column, "tag '" + name + "' declares " +
                                     std::to_string(nint + nfloat + nstring) + " values but has " +
@@ -129,7 +153,10 @@ class ObjParser {
         std::vector<int> intColumns;
         for (int i = 0; i < nint; ++i) {
             const Token& t = tokens[3 + std::size_t(i)];
-            ints.push_back(static_cast<int>(integer(t.text, t.column)));
+            const long value = integer(t.text, t.column);
+            if (value < std::numeric_limits<int>::min() || value > std::numeric_limits<int>::max())
+                fail(t.column, "tag value " + std::string(t.text) + " is out of range");
+            ints.push_back(static_cast<int>(value));
             intColumns.push_back(t.column);
         }
         for (int i = 0; i < nfloat; ++i)
