@@ -8,8 +8,12 @@
 // blended exactly as the vertices are, so a ray lying on a box face still meets it. The test is
 // conservative by a relative slack (conservative_margins.h): flat boxes are never missed.
 
+#include <algorithm>
+#include <cmath>
+
 #include "pipeline/core/lbbox.h"
 #include "pipeline/core/ray.h"
+#include "rasterizer/conservative_margins.h"
 
 namespace patchsim {
 
@@ -23,8 +27,32 @@ struct SlabRay {
 
 SlabRay makeSlabRay(const Ray& ray);
 
-// Does the ray, at its time, meet the moving box within its [lambdaMin, lambdaMax]?
-bool hitsMovingBox(const SlabRay& ray, const LBBox& box);
+// Does the ray, at its time, meet the moving box within its [lambdaMin, lambdaMax]? `entry` gets
+// where it enters (for visiting nearer boxes first). Inline: it is the innermost loop of every
+// ray, called across translation units.
+inline bool hitsMovingBox(const SlabRay& r, const LBBox& box, float& entry) {
+    if (box.empty()) return false;
+    float nearest = r.lambdaMin, farthest = r.lambdaMax;
+    for (int k = 0; k < 3; ++k) {
+        if (r.parallel[k]) {
+            const float lo = lerp(box.bounds0.lower, box.bounds1.lower, r.time)[k];
+            const float hi = lerp(box.bounds0.upper, box.bounds1.upper, r.time)[k];
+            if (r.origin[k] < lo || r.origin[k] > hi) return false;
+            continue;
+        }
+        const float e0 = box.bounds0.lower[k] * r.a[k] + box.bounds1.lower[k] * r.b[k] + r.c[k];
+        const float e1 = box.bounds0.upper[k] * r.a[k] + box.bounds1.upper[k] * r.b[k] + r.c[k];
+        nearest = std::max(nearest, std::min(e0, e1));
+        farthest = std::min(farthest, std::max(e0, e1));
+    }
+    entry = nearest;
+    return nearest <= farthest + kRayBoxRelativeSlack * (std::abs(nearest) + std::abs(farthest)) +
+                          kRayBoxAbsoluteSlack;
+}
+inline bool hitsMovingBox(const SlabRay& ray, const LBBox& box) {
+    float entry;
+    return hitsMovingBox(ray, box, entry);
+}
 
 inline bool rayMeetsMovingBox(const Ray& ray, const LBBox& box) {
     return hitsMovingBox(makeSlabRay(ray), box);

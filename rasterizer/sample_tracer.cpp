@@ -19,8 +19,8 @@ namespace {
 // `sample` carries the sample's time and lens position into the records.
 template <typename OnHit>
 void forEachLeafHit(const MovingMesh& mesh, const std::uint32_t* triangles, std::size_t count,
-                    const Ray& ray, const VisibilityRecord& sample, const OnHit& onHit) {
-    const ShearedRay sheared = shearRay(ray);
+                    const Ray& ray, const ShearedRay& sheared, const VisibilityRecord& sample,
+                    const OnHit& onHit) {
     for (std::size_t k = 0; k < count; ++k) {
         const std::uint32_t tri = triangles[k];
         const std::uint32_t* v = &mesh.indices[3 * std::size_t(tri)];
@@ -67,37 +67,58 @@ void traceTileSamples(const RayCaster& caster, const MovingMesh& mesh, const Pat
         const float previousBound = buffer.depthBound(stored);
         const float bound = caster.zCulling || everyHit ? previousBound : caster.camera.farPlane();
         ray.lambdaMax = rayEndAtDepth(bound, ray.depthPerLambda);
-        const SlabRay slab = makeSlabRay(ray);
+        SlabRay slab = makeSlabRay(ray);
+        const ShearedRay sheared = shearRay(ray);
         VisibilityRecord sample;
         sample.time = smp.time;
         sample.lens = smp.lens;
         VisibilityRecord best = stored;
+        // Depth first, the nearer child first; an opaque hit shortens the ray (widened so a hit at
+        // the same depth still reaches the tie-break), so farther boxes are skipped.
         int stack[2 * kMaxLeavesPerHierarchy];
         int top = 0;
-        stack[top++] = branchNode;
+        ++work.rayBoxTests;
+        float entry = 0.0f;
+        if (hitsMovingBox(slab, h.node(branchNode), entry)) stack[top++] = branchNode;
         while (top > 0) {
             const int node = stack[--top];
-            ++work.rayBoxTests;
-            if (!hitsMovingBox(slab, h.node(node))) continue;
             if (!h.isLeaf(node)) {
-                stack[top++] = 2 * node + 2;
-                stack[top++] = 2 * node + 1;
+                const int left = 2 * node + 1, right = 2 * node + 2;
+                float leftEntry = 0.0f, rightEntry = 0.0f;  // read only after a hit
+                work.rayBoxTests += 2;
+                const bool inLeft = hitsMovingBox(slab, h.node(left), leftEntry);
+                const bool inRight = hitsMovingBox(slab, h.node(right), rightEntry);
+                if (inLeft && inRight) {
+                    const bool leftFirst = leftEntry <= rightEntry;
+                    stack[top++] = leftFirst ? right : left;
+                    stack[top++] = leftFirst ? left : right;
+                } else if (inLeft) {
+                    stack[top++] = left;
+                } else if (inRight) {
+                    stack[top++] = right;
+                }
                 continue;
             }
             std::size_t count;
             const std::uint32_t* tris = h.leafTriangles(node - firstLeaf, count);
             work.rayTriangleTests += std::int64_t(count);
             if (everyHit) {
-                forEachLeafHit(mesh, tris, count, ray, sample, [&](const VisibilityRecord& hit) {
-                    ++work.transparentFragments;
-                    if (!targets.transparent->offer(smp.record, targets.pool,
-                                                    LayerFragment{hit, mesh.objectId}))
-                        ++work.transparentOverflow;
-                });
-            } else {
-                forEachLeafHit(mesh, tris, count, ray, sample, [&](const VisibilityRecord& hit) {
-                    if (hit.nearerThan(best)) best = hit;
-                });
+                forEachLeafHit(mesh, tris, count, ray, sheared, sample,
+                               [&](const VisibilityRecord& hit) {
+                                   ++work.transparentFragments;
+                                   if (!targets.transparent->offer(smp.record, targets.pool,
+                                                                   LayerFragment{hit, mesh.objectId}))
+                                       ++work.transparentOverflow;
+                               });
+                continue;
+            }
+            bool nearer = false;
+            forEachLeafHit(mesh, tris, count, ray, sheared, sample, [&](const VisibilityRecord& hit) {
+                if (hit.nearerThan(best)) best = hit, nearer = true;
+            });
+            if (nearer) {
+                ray.lambdaMax = std::min(ray.lambdaMax, rayEndAtDepth(best.depth, ray.depthPerLambda));
+                slab.lambdaMax = ray.lambdaMax;
             }
         }
         if (best.patch != stored.patch || best.triangle != stored.triangle ||
