@@ -178,15 +178,15 @@ TEST(Cli, OutputPathErrorsExitTwoAndLeaveNothing) {
 
 TEST(Cli, CommandLineNumbersAreCheckedWithClearMessages) {
     CommandResult r = run("info --threads -1");
-    EXPECT_NE(r.exitCode, 0);
+    EXPECT_EQ(r.exitCode, 2) << r.output;
     EXPECT_NE(r.output.find("must be 0 (all cores) or a number of threads"), std::string::npos)
         << r.output;
     EXPECT_LT(r.output.size(), 400u) << r.output;
     r = run("explore --grid x.json --threads -3");
-    EXPECT_NE(r.exitCode, 0);
+    EXPECT_EQ(r.exitCode, 2) << r.output;
     EXPECT_NE(r.output.find("must be 0 (all cores)"), std::string::npos) << r.output;
     r = run("info --memory-budget-mib 17592186044416");
-    EXPECT_NE(r.exitCode, 0);
+    EXPECT_EQ(r.exitCode, 2) << r.output;
     EXPECT_NE(r.output.find("--memory-budget-mib"), std::string::npos) << r.output;
     // The budget holds for the built-in scene too (it asks for 320x240 at 16 spp, 37 MiB).
     r = run("info --memory-budget-mib 1");
@@ -500,8 +500,11 @@ TEST(Cli, RenderWithHardwareConfigAndTrace) {
 }
 
 TEST(Cli, UnknownOptionIsAUsageError) {
-    const CommandResult r = run("info --frobnicate");
-    EXPECT_NE(r.exitCode, 0);
+    CommandResult r = run("info --frobnicate");
+    EXPECT_EQ(r.exitCode, 2) << r.output;
+    EXPECT_NE(r.output.find("--frobnicate"), std::string::npos) << r.output;
+    r = run("--help");
+    EXPECT_EQ(r.exitCode, 0) << r.output;
 }
 
 }  // namespace

@@ -511,7 +511,9 @@ int main(int argc, char** argv) {
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {
-        return app.exit(e);
+        // CLI11 prints the help, or the error with a hint; a bad command line is bad input, so it
+        // exits 2 like a bad file (CLI11's own codes are 1xx).
+        return app.exit(e) == 0 ? 0 : 2;
     }
     try {
         if (*info) return runInfo(infoOptions);
