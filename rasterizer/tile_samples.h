@@ -49,10 +49,6 @@ class TileSamples {
     }
 
   private:
-    // Writes `made` to `out` in order of time, ties by record; `keys` is scratch.
-    static void orderByTime(const std::vector<TileSample>& made, std::vector<std::uint64_t>& keys,
-                            TileSample* out);
-
     TileGrid grid_;
     std::vector<TileSample> samples_;
     std::vector<std::uint32_t> begin_;  // per tile, tileCount + 1
