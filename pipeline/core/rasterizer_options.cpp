@@ -3,32 +3,26 @@
 #include <algorithm>
 #include <nlohmann/json.hpp>
 
+#include "pipeline/core/enum_names.h"
 #include "pipeline/core/error.h"
 
 namespace patchsim {
 
 using Json = nlohmann::json;
 
-const char* branchMethodName(BranchMethod m) {
-    switch (m) {
-        case BranchMethod::Root:
-            return "root";
-        case BranchMethod::FirstSplit:
-            return "first-split";
-        case BranchMethod::Bitmask:
-            return "bitmask";
-    }
-    return "?";
-}
+namespace {
 
+constexpr EnumName<BranchMethod> kBranchMethods[] = {{BranchMethod::Root, "root"},
+                                                     {BranchMethod::FirstSplit, "first-split"},
+                                                     {BranchMethod::Bitmask, "bitmask"}};
+
+}  // namespace
+
+const char* branchMethodName(BranchMethod m) {
+    return nameIn(kBranchMethods, m);
+}
 bool parseBranchMethod(const std::string& name, BranchMethod& out) {
-    for (BranchMethod m : {BranchMethod::Root, BranchMethod::FirstSplit, BranchMethod::Bitmask}) {
-        if (name == branchMethodName(m)) {
-            out = m;
-            return true;
-        }
-    }
-    return false;
+    return parseIn(kBranchMethods, name, out);
 }
 
 int RasterizerOptions::trianglesPerGroup() const {

@@ -2,6 +2,8 @@
 
 #include <glm/gtc/matrix_transform.hpp>
 
+#include "pipeline/core/enum_names.h"
+
 namespace patchsim {
 
 Mat4 TransformDesc::matrix() const {
@@ -12,39 +14,32 @@ Mat4 TransformDesc::matrix() const {
     return glm::scale(m, scale);
 }
 
-const char* samplePatternName(SamplePattern p) {
-    switch (p) {
-        case SamplePattern::Stratified:
-            return "stratified";
-        case SamplePattern::Grid:
-            return "grid";
-        case SamplePattern::Interleaved:
-            return "interleaved";
-    }
-    return "?";
-}
+namespace {
 
+constexpr EnumName<SamplePattern> kSamplePatterns[] = {{SamplePattern::Stratified, "stratified"},
+                                                       {SamplePattern::Grid, "grid"},
+                                                       {SamplePattern::Interleaved, "interleaved"}};
+constexpr EnumName<SubdivisionScheme> kSchemes[] = {{SubdivisionScheme::Catmark, "catmark"},
+                                                    {SubdivisionScheme::Loop, "loop"},
+                                                    {SubdivisionScheme::Bilinear, "bilinear"}};
+
+}  // namespace
+
+const char* samplePatternName(SamplePattern p) {
+    return nameIn(kSamplePatterns, p);
+}
 bool parseSamplePattern(const std::string& name, SamplePattern& out) {
-    for (SamplePattern p :
-         {SamplePattern::Stratified, SamplePattern::Grid, SamplePattern::Interleaved}) {
-        if (name == samplePatternName(p)) {
-            out = p;
-            return true;
-        }
-    }
-    return false;
+    return parseIn(kSamplePatterns, name, out);
 }
 
 const char* schemeName(SubdivisionScheme s) {
-    switch (s) {
-        case SubdivisionScheme::Catmark:
-            return "catmark";
-        case SubdivisionScheme::Loop:
-            return "loop";
-        case SubdivisionScheme::Bilinear:
-            return "bilinear";
-    }
-    return "?";
+    return nameIn(kSchemes, s);
+}
+bool parseScheme(std::string_view name, SubdivisionScheme& out) {
+    return parseIn(kSchemes, name, out);
+}
+std::string schemeNames() {
+    return namesIn(kSchemes);
 }
 
 }  // namespace patchsim

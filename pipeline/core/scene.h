@@ -12,6 +12,7 @@
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "pipeline/core/math.h"
@@ -76,6 +77,8 @@ struct TransformDesc {
 
 enum class SubdivisionScheme : std::uint8_t { Catmark, Loop, Bilinear };
 const char* schemeName(SubdivisionScheme s);
+bool parseScheme(std::string_view name, SubdivisionScheme& out);
+std::string schemeNames();  // "catmark, loop, bilinear"
 
 // Colour and opacity at shutter open, and (`close`) at shutter close; a t-fragment blends them
 // at its time. An unlit material shows its colour as is (no lighting, no texture).

@@ -127,14 +127,8 @@ ObjectDesc readObject(ObjectReader r, const std::string& baseDir, std::size_t in
     const std::string cageClose = r.string("cage_close", "");
     if (!cageClose.empty()) o.cageClosePath = joinPath(baseDir, cageClose);
     const std::string scheme = r.string("scheme", schemeName(schemeFromCageName(cage)));
-    if (scheme == "catmark")
-        o.scheme = SubdivisionScheme::Catmark;
-    else if (scheme == "loop")
-        o.scheme = SubdivisionScheme::Loop;
-    else if (scheme == "bilinear")
-        o.scheme = SubdivisionScheme::Bilinear;
-    else
-        r.fail(r.fieldName("scheme"), "unknown scheme '" + scheme + "' (catmark, loop, bilinear)");
+    if (!parseScheme(scheme, o.scheme))
+        r.fail(r.fieldName("scheme"), "unknown scheme '" + scheme + "' (" + schemeNames() + ")");
     if (auto open = r.object("open")) o.open = readTransform(*open, o.open);
     o.close = o.open;
     if (auto close = r.object("close")) o.close = readTransform(*close, o.open);

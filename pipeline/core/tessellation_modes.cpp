@@ -1,53 +1,34 @@
 #include "pipeline/core/tessellation_modes.h"
 
+#include "pipeline/core/enum_names.h"
+
 namespace patchsim {
 
-const char* partitioningName(Partitioning p) {
-    switch (p) {
-        case Partitioning::Integer:
-            return "integer";
-        case Partitioning::Pow2:
-            return "pow2";
-        case Partitioning::FractionalOdd:
-            return "fractional_odd";
-        case Partitioning::FractionalEven:
-            return "fractional_even";
-    }
-    return "?";
-}
+namespace {
 
+constexpr EnumName<Partitioning> kPartitionings[] = {
+    {Partitioning::Integer, "integer"},
+    {Partitioning::Pow2, "pow2"},
+    {Partitioning::FractionalOdd, "fractional_odd"},
+    {Partitioning::FractionalEven, "fractional_even"}};
+constexpr EnumName<InsideReduction> kInsideReductions[] = {{InsideReduction::Min, "min"},
+                                                           {InsideReduction::Max, "max"},
+                                                           {InsideReduction::Average, "average"}};
+
+}  // namespace
+
+const char* partitioningName(Partitioning p) {
+    return nameIn(kPartitionings, p);
+}
 bool parsePartitioning(std::string_view name, Partitioning& out) {
-    for (Partitioning p : {Partitioning::Integer, Partitioning::Pow2, Partitioning::FractionalOdd,
-                           Partitioning::FractionalEven}) {
-        if (name == partitioningName(p)) {
-            out = p;
-            return true;
-        }
-    }
-    return false;
+    return parseIn(kPartitionings, name, out);
 }
 
 const char* insideReductionName(InsideReduction r) {
-    switch (r) {
-        case InsideReduction::Min:
-            return "min";
-        case InsideReduction::Max:
-            return "max";
-        case InsideReduction::Average:
-            return "average";
-    }
-    return "?";
+    return nameIn(kInsideReductions, r);
 }
-
 bool parseInsideReduction(std::string_view name, InsideReduction& out) {
-    for (InsideReduction r :
-         {InsideReduction::Min, InsideReduction::Max, InsideReduction::Average}) {
-        if (name == insideReductionName(r)) {
-            out = r;
-            return true;
-        }
-    }
-    return false;
+    return parseIn(kInsideReductions, name, out);
 }
 
 }  // namespace patchsim
