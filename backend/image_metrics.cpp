@@ -18,7 +18,8 @@ double meanSquaredError(const Image& a, const Image& b) {
     checkSizes(a, b);
     double sum = 0;
     for (std::size_t i = 0; i < a.rgb.size(); ++i) {
-        const double d = double(std::clamp(a.rgb[i], 0.0f, 1.0f)) - std::clamp(b.rgb[i], 0.0f, 1.0f);
+        const double d =
+            double(std::clamp(a.rgb[i], 0.0f, 1.0f)) - std::clamp(b.rgb[i], 0.0f, 1.0f);
         sum += d * d;
     }
     return a.rgb.empty() ? 0.0 : sum / double(a.rgb.size());
@@ -27,7 +28,8 @@ double meanSquaredError(const Image& a, const Image& b) {
 std::vector<double> displayLuma(const Image& image) {
     std::vector<double> luma(std::size_t(image.width) * std::size_t(image.height));
     for (std::size_t p = 0; p < luma.size(); ++p)
-        luma[p] = 0.299 * linearToSrgb(image.rgb[3 * p]) + 0.587 * linearToSrgb(image.rgb[3 * p + 1]) +
+        luma[p] = 0.299 * linearToSrgb(image.rgb[3 * p]) +
+                  0.587 * linearToSrgb(image.rgb[3 * p + 1]) +
                   0.114 * linearToSrgb(image.rgb[3 * p + 2]);
     return luma;
 }
@@ -53,7 +55,8 @@ double ssim(const Image& image, const Image& reference) {
     for (int j = 0; j < size; ++j)
         for (int i = 0; i < size; ++i) {
             const double dx = i - (size - 1) / 2.0, dy = j - (size - 1) / 2.0;
-            total += window[std::size_t(j * size + i)] = std::exp(-(dx * dx + dy * dy) / (2 * 1.5 * 1.5));
+            total += window[std::size_t(j * size + i)] =
+                std::exp(-(dx * dx + dy * dy) / (2 * 1.5 * 1.5));
         }
     for (double& g : window) g /= total;
     const std::vector<double> x = displayLuma(image), y = displayLuma(reference);

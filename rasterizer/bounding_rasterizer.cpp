@@ -85,7 +85,8 @@ struct ScreenBox {
         if (!(x0 <= x1) || !(y0 <= y1) || x1 < 0 || y1 < 0 || x0 > float(w) || y0 > float(h))
             return {};
         return {std::clamp(int(std::floor(x0)), 0, w), std::clamp(int(std::floor(y0)), 0, h),
-                std::clamp(int(std::floor(x1)) + 1, 0, w), std::clamp(int(std::floor(y1)) + 1, 0, h)};
+                std::clamp(int(std::floor(x1)) + 1, 0, w),
+                std::clamp(int(std::floor(y1)) + 1, 0, h)};
     }
 };
 
@@ -105,7 +106,8 @@ class BandRasterizer {
             case Bounding::Interval:
                 for (int k = 0; k < o_.timeStrata; ++k) {
                     const float ta = std::max(0.0f, float(k) / float(o_.timeStrata) - kTimeGuard);
-                    const float tb = std::min(1.0f, float(k + 1) / float(o_.timeStrata) + kTimeGuard);
+                    const float tb =
+                        std::min(1.0f, float(k + 1) / float(o_.timeStrata) + kTimeGuard);
                     testRect(mesh, tri, spanBounds(mesh, v, ta, tb, work), 0, spp, k, work);
                 }
                 break;
@@ -158,8 +160,13 @@ class BandRasterizer {
                                            ray.lambdaMax, hit))
                         continue;
                     const Sample smp = c_.samples.sample(x, y, s);
-                    VisibilityRecord record{hit.lambda * ray.depthPerLambda, mesh.patchId, tri,
-                                            hit.b1, hit.b2, smp.time, smp.lens};
+                    VisibilityRecord record{hit.lambda * ray.depthPerLambda,
+                                            mesh.patchId,
+                                            tri,
+                                            hit.b1,
+                                            hit.b2,
+                                            smp.time,
+                                            smp.lens};
                     if (everyHit) {
                         ++work.transparentFragments;
                         if (!t_.transparent->offer(index, t_.pool, {record, mesh.objectId}))

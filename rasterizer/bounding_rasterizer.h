@@ -36,18 +36,18 @@ namespace patchsim {
 enum class Bounding : std::uint8_t { TriangleBBox, Interval, Interleaved };
 
 // X(field, "Name", "unit", "definition"): one list, one counter per method and field.
-#define PATCHSIM_BOUNDING_WORK(X)                                                                  \
-    X(triangleSetups, "Triangle setups", "setups",                                                 \
-      "Triangle screen bounds computed (per triangle; per time stratum; per interleaved pass)")     \
-    X(fullScreenBounds, "Full-screen bounds", "setups",                                            \
-      "Bounds that reached in front of the near plane: the whole screen")                          \
-    X(samplesTested, "Samples tested", "samples",                                                  \
-      "Sample-triangle pairs tested, one watertight ray-triangle test each")                       \
-    X(visibilitySamples, "Visibility samples", "samples",                                          \
-      "Tests that found a hit nearer than the sample's z-buffer entry")                            \
-    X(transparentFragments, "Transparent fragments", "fragments",                                  \
-      "Transparent hits offered to a sample's layers")                                             \
-    X(transparentOverflow, "Transparent overflow", "fragments",                                    \
+#define PATCHSIM_BOUNDING_WORK(X)                                                               \
+    X(triangleSetups, "Triangle setups", "setups",                                              \
+      "Triangle screen bounds computed (per triangle; per time stratum; per interleaved pass)") \
+    X(fullScreenBounds, "Full-screen bounds", "setups",                                         \
+      "Bounds that reached in front of the near plane: the whole screen")                       \
+    X(samplesTested, "Samples tested", "samples",                                               \
+      "Sample-triangle pairs tested, one watertight ray-triangle test each")                    \
+    X(visibilitySamples, "Visibility samples", "samples",                                       \
+      "Tests that found a hit nearer than the sample's z-buffer entry")                         \
+    X(transparentFragments, "Transparent fragments", "fragments",                               \
+      "Transparent hits offered to a sample's layers")                                          \
+    X(transparentOverflow, "Transparent overflow", "fragments",                                 \
       "Transparent fragments dropped because a sample's layers were full")
 
 // Each method's counters ("BB/", "IV/", "IL/" + name), made from this one list.

@@ -20,5 +20,4 @@ SlabRay makeSlabRay(const Ray& ray) {
     return s;
 }
 
-
 }  // namespace patchsim

@@ -38,8 +38,8 @@ void PatchRasterizer::rasterizeTile(const MovingMesh& mesh, const Group& group, 
     const TileRect tile = grid_.rect(tileX, tileY);
     ++work.tilesInBounds;
     if (targets.pixels) targets.pixels->countTileTest(tileX, tileY);
-    const float farDepth = options_.zCulling ? targets.depthBounds->bound(tileX, tileY)
-                                             : caster_.camera.farPlane();
+    const float farDepth =
+        options_.zCulling ? targets.depthBounds->bound(tileX, tileY) : caster_.camera.farPlane();
     const TileTraversal traversal =
         traverseTile(group.hierarchy, makeTileFrustum(caster_.camera, caster_.lens, tile, farDepth),
                      effects_.motion, options_.timeRefinement, work);
@@ -47,7 +47,8 @@ void PatchRasterizer::rasterizeTile(const MovingMesh& mesh, const Group& group, 
     ++work.tilesOverlapping;
     const int branch = branchNode(options_.branchMethod, traversal, group.hierarchy.depth());
     work.branchDepthSum += group.hierarchy.levelOf(branch);
-    traceTileSamples(caster_, mesh, group.hierarchy, tileX, tileY, traversal, branch, targets, work);
+    traceTileSamples(caster_, mesh, group.hierarchy, tileX, tileY, traversal, branch, targets,
+                     work);
 }
 
 }  // namespace patchsim

@@ -24,8 +24,8 @@ const ReferenceCounters& referenceCounters() {
 
 const RatioCounter& referenceSampleTestEfficiency() {
     static const RatioCounter ratio{"REF/Sample test efficiency",
-                                    "Reference visibility samples per ray-triangle test",
-                                    refHits, refTriangleTests};
+                                    "Reference visibility samples per ray-triangle test", refHits,
+                                    refTriangleTests};
     return ratio;
 }
 

@@ -103,21 +103,23 @@ void traceTileSamples(const RayCaster& caster, const MovingMesh& mesh, const Pat
             const std::uint32_t* tris = h.leafTriangles(node - firstLeaf, count);
             work.rayTriangleTests += std::int64_t(count);
             if (everyHit) {
-                forEachLeafHit(mesh, tris, count, ray, sheared, sample,
-                               [&](const VisibilityRecord& hit) {
-                                   ++work.transparentFragments;
-                                   if (!targets.transparent->offer(smp.record, targets.pool,
-                                                                   LayerFragment{hit, mesh.objectId}))
-                                       ++work.transparentOverflow;
-                               });
+                forEachLeafHit(
+                    mesh, tris, count, ray, sheared, sample, [&](const VisibilityRecord& hit) {
+                        ++work.transparentFragments;
+                        if (!targets.transparent->offer(smp.record, targets.pool,
+                                                        LayerFragment{hit, mesh.objectId}))
+                            ++work.transparentOverflow;
+                    });
                 continue;
             }
             bool nearer = false;
-            forEachLeafHit(mesh, tris, count, ray, sheared, sample, [&](const VisibilityRecord& hit) {
-                if (hit.nearerThan(best)) best = hit, nearer = true;
-            });
+            forEachLeafHit(mesh, tris, count, ray, sheared, sample,
+                           [&](const VisibilityRecord& hit) {
+                               if (hit.nearerThan(best)) best = hit, nearer = true;
+                           });
             if (nearer) {
-                ray.lambdaMax = std::min(ray.lambdaMax, rayEndAtDepth(best.depth, ray.depthPerLambda));
+                ray.lambdaMax =
+                    std::min(ray.lambdaMax, rayEndAtDepth(best.depth, ray.depthPerLambda));
                 slab.lambdaMax = ray.lambdaMax;
             }
         }

@@ -3,10 +3,11 @@
 // from the branch node down the tile's hierarchy.
 //
 // The frame's samples are kept per tile in time order (tile_samples.h): the samples of the tile's
-// time range are one span, and those outside it are never looked at. The others become rays from their lens point through their point on the plane in focus, ending at their
-// own z-buffer depth (z culling). A ray is tested against each box at its time (the 12-MADD moving
-// box test) and, at the leaves, watertight against the triangles blended to its time. An opaque
-// surface keeps the nearest hit; a transparent one offers every hit to the sample's layers.
+// time range are one span, and those outside it are never looked at. The others become rays from
+// their lens point through their point on the plane in focus, ending at their own z-buffer depth (z
+// culling). A ray is tested against each box at its time (the 12-MADD moving box test) and, at the
+// leaves, watertight against the triangles blended to its time. An opaque surface keeps the nearest
+// hit; a transparent one offers every hit to the sample's layers.
 
 #include "pipeline/core/camera.h"
 #include "pipeline/core/ray.h"

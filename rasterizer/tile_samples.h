@@ -27,9 +27,9 @@ namespace patchsim {
 
 struct TileSample {
     float time;
-    Vec2 screen;  // on the z = -1 plane
-    Vec2 disk;    // lens point on the unit disk
-    Vec2 lens;    // lens sample in [0,1)^2
+    Vec2 screen;           // on the z = -1 plane
+    Vec2 disk;             // lens point on the unit disk
+    Vec2 lens;             // lens sample in [0,1)^2
     std::uint32_t record;  // index in the visibility buffer
 };
 static_assert(sizeof(TileSample) == 32);

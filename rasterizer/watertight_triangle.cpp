@@ -18,5 +18,4 @@ ShearedRay shearRay(const Ray& ray) {
     return s;
 }
 
-
 }  // namespace patchsim

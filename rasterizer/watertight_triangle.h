@@ -19,14 +19,14 @@ struct ShearedRay {
 ShearedRay shearRay(const Ray& ray);
 
 struct TriangleHit {
-    float lambda = 0.0f;                // ray parameter
+    float lambda = 0.0f;                    // ray parameter
     float b0 = 0.0f, b1 = 0.0f, b2 = 0.0f;  // barycentric weights of vertices 0, 1, 2
 };
 
 // Hit in [lambdaMin, lambdaMax] (both inclusive); both faces count. Inline, like the box test:
 // it runs for every triangle of every leaf a ray reaches.
 inline bool intersectTriangle(const ShearedRay& r, const Vec3& a, const Vec3& b, const Vec3& c,
-                       float lambdaMin, float lambdaMax, TriangleHit& hit) {
+                              float lambdaMin, float lambdaMax, TriangleHit& hit) {
     const Vec3 A = a - r.origin, B = b - r.origin, C = c - r.origin;
     const float ax = A[r.kx] - r.sx * A[r.kz], ay = A[r.ky] - r.sy * A[r.kz];
     const float bx = B[r.kx] - r.sx * B[r.kz], by = B[r.ky] - r.sy * B[r.kz];

@@ -42,7 +42,7 @@ struct FarLimitEvaluator::Impl {
     // StencilTableReal<float> to StencilTable, which is undefined behaviour (UBSan stops on it).
     std::unique_ptr<const osd::Far::StencilTableReal<float>> refined;
     const osd::Far::StencilTableReal<float>* local = nullptr;  // owned by `patches`
-    int refinedVertices = 0;                        // cage and refined vertices
+    int refinedVertices = 0;                                   // cage and refined vertices
     std::unique_ptr<osd::Far::PtexIndices> ptex;
     osd::Sdc::SchemeType scheme = osd::Sdc::SCHEME_CATMARK;
     int baseVertices = 0;
@@ -147,9 +147,9 @@ void FarLimitEvaluator::evaluate(int face, const float faceUV[2], LimitStencil& 
             return;
         }
         const bool isLocal = point >= impl_->refinedVertices;
-        const osd::Far::StencilReal<float> s = isLocal
-                                        ? impl_->local->GetStencil(point - impl_->refinedVertices)
-                                        : impl_->refined->GetStencil(point - impl_->baseVertices);
+        const osd::Far::StencilReal<float> s =
+            isLocal ? impl_->local->GetStencil(point - impl_->refinedVertices)
+                    : impl_->refined->GetStencil(point - impl_->baseVertices);
         const int* vertices = s.GetVertexIndices();
         const float* weights = s.GetWeights();
         for (int k = 0; k < s.GetSize(); ++k) {

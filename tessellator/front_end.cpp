@@ -10,25 +10,28 @@
 namespace patchsim {
 
 const Counter hsPatches{"HS/Patches", "patches",
-                "Patches whose tessellation factors were computed"};
+                        "Patches whose tessellation factors were computed"};
 const Counter hsCulled{"HS/Patches culled", "patches",
-                "Patches culled by an edge factor <= 0 or NaN"};
-const Counter hsEdgeFactors{"HS/Edge factors", "factors",
-                "Edge tessellation factors computed"};
+                       "Patches culled by an edge factor <= 0 or NaN"};
+const Counter hsEdgeFactors{"HS/Edge factors", "factors", "Edge tessellation factors computed"};
 const Counter tsPoints{"TS/Domain points", "points",
-                "Domain points emitted by the D3D11 tessellator"};
+                       "Domain points emitted by the D3D11 tessellator"};
 const Counter tsTriangles{"TS/Triangles", "triangles",
-                "Triangles emitted by the D3D11 tessellator"};
-const Counter tsStitchPoints{"TS/Stitch points", "points",
-                "Points added on an edge where the neighbouring patch's fractional pattern differs "
+                          "Triangles emitted by the D3D11 tessellator"};
+const Counter tsStitchPoints{
+    "TS/Stitch points", "points",
+    "Points added on an edge where the neighbouring patch's fractional pattern differs "
     "(an N-gon's half edges against a whole edge), so no T-junction remains"};
-const Counter dsEvaluations{"DS/Evaluations", "points",
-                "Domain points evaluated on the limit surface (one stencil, applied at t=0 and t=1)"};
-const Counter dsOwnerEvaluations{"DS/Shared-edge evaluations", "points",
-                "Domain points on an edge or corner shared with a lower-numbered patch, evaluated "
-                 "on that owner patch"};
-const Counter dsApplications{"DS/Stencil applications", "applications",
-                "Stencil weight sets applied to a control-point set (position, du, dv at both shutter ends)"};
+const Counter dsEvaluations{
+    "DS/Evaluations", "points",
+    "Domain points evaluated on the limit surface (one stencil, applied at t=0 and t=1)"};
+const Counter dsOwnerEvaluations{
+    "DS/Shared-edge evaluations", "points",
+    "Domain points on an edge or corner shared with a lower-numbered patch, evaluated "
+    "on that owner patch"};
+const Counter dsApplications{
+    "DS/Stencil applications", "applications",
+    "Stencil weight sets applied to a control-point set (position, du, dv at both shutter ends)"};
 
 namespace {
 

@@ -19,13 +19,12 @@ namespace patchsim {
 namespace osd = OpenSubdiv::OPENSUBDIV_VERSION;
 
 const Counter iaPatches{"IA/Patches", "patches",
-                "Tessellation domains made from cage faces (an N-gon is N)"};
-const Counter iaCageFaces{"IA/Cage faces", "faces",
-                "Faces of the control cages read"};
-const Counter iaHoleFaces{"IA/Hole faces", "faces",
-                "Cage faces tagged as holes (no patch)"};
-const Counter iaFarFaces{"IA/Far-evaluated faces", "faces",
-                "Cage faces evaluated on Far's patch table instead of Bfr (OpenSubdiv 3.5.0 bug)"};
+                        "Tessellation domains made from cage faces (an N-gon is N)"};
+const Counter iaCageFaces{"IA/Cage faces", "faces", "Faces of the control cages read"};
+const Counter iaHoleFaces{"IA/Hole faces", "faces", "Cage faces tagged as holes (no patch)"};
+const Counter iaFarFaces{
+    "IA/Far-evaluated faces", "faces",
+    "Cage faces evaluated on Far's patch table instead of Bfr (OpenSubdiv 3.5.0 bug)"};
 
 namespace {
 

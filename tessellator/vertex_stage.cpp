@@ -8,7 +8,7 @@
 namespace patchsim {
 
 const Counter vsControlPoints{"VS/Control points", "points",
-                "Cage control points transformed (both shutter ends count once)"};
+                              "Cage control points transformed (both shutter ends count once)"};
 
 namespace {
 

@@ -33,10 +33,10 @@ TEST(BoundingRasterizer, TriangleBBoxAndIntervalEqualThePatchMethodSampleForSamp
     for (const std::string& path : test::sceneFiles()) {
         const SceneDesc scene = small(path.substr(test::sourcePath("").size()));
         const RenderResult patch = renderWith(scene, VisibilityMethod::Patch);
-        for (auto [method, strata] : {std::pair{VisibilityMethod::TriangleBBox, 4},
-                                      std::pair{VisibilityMethod::Interval, 4},
-                                      std::pair{VisibilityMethod::Interval, 1},
-                                      std::pair{VisibilityMethod::Interval, 7}}) {
+        for (auto [method, strata] :
+             {std::pair{VisibilityMethod::TriangleBBox, 4},
+              std::pair{VisibilityMethod::Interval, 4}, std::pair{VisibilityMethod::Interval, 1},
+              std::pair{VisibilityMethod::Interval, 7}}) {
             const test::Comparison c = test::compare(patch, renderWith(scene, method, strata));
             EXPECT_GT(c.hits, 0u) << path;
             EXPECT_EQ(c.mismatches, 0u)
@@ -88,8 +88,8 @@ TEST(BoundingRasterizer, TighterBoundsTestFewerSamplesAndThePatchMethodGainsWith
         const double patch = tested(scene, VisibilityMethod::Patch);
         EXPECT_LT(interval, bbox) << scale;
         const double ratio = bbox / patch;
-        EXPECT_GT(ratio, previousRatio) << "motion x" << scale << ": bbox " << bbox << ", patch "
-                                        << patch;
+        EXPECT_GT(ratio, previousRatio)
+            << "motion x" << scale << ": bbox " << bbox << ", patch " << patch;
         previousRatio = ratio;
     }
     EXPECT_GT(previousRatio, 10.0) << "at four times the motion";

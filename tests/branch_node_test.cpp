@@ -14,13 +14,13 @@ namespace {
 
 TEST(BranchNode, BitmaskFindsTheLowestNodeAboveEveryLeaf) {
     // Depth 3: leaves are nodes 7..14 (leaf j is node 7 + j).
-    EXPECT_EQ(bitmaskBranchNode(0b00000001, 3), 7);   // one leaf: the leaf itself
-    EXPECT_EQ(bitmaskBranchNode(0b00000011, 3), 3);   // leaves 0, 1: their parent
-    EXPECT_EQ(bitmaskBranchNode(0b00000110, 3), 1);   // leaves 1, 2: parents 3, 4 meet at 1
-    EXPECT_EQ(bitmaskBranchNode(0b00110000, 3), 5);   // leaves 4, 5: parent 5
-    EXPECT_EQ(bitmaskBranchNode(0b10000001, 3), 0);   // both ends: the root
-    EXPECT_EQ(bitmaskBranchNode(0b11110000, 3), 2);   // the right half
-    EXPECT_EQ(bitmaskBranchNode(1, 0), 0);            // a single-leaf tree
+    EXPECT_EQ(bitmaskBranchNode(0b00000001, 3), 7);  // one leaf: the leaf itself
+    EXPECT_EQ(bitmaskBranchNode(0b00000011, 3), 3);  // leaves 0, 1: their parent
+    EXPECT_EQ(bitmaskBranchNode(0b00000110, 3), 1);  // leaves 1, 2: parents 3, 4 meet at 1
+    EXPECT_EQ(bitmaskBranchNode(0b00110000, 3), 5);  // leaves 4, 5: parent 5
+    EXPECT_EQ(bitmaskBranchNode(0b10000001, 3), 0);  // both ends: the root
+    EXPECT_EQ(bitmaskBranchNode(0b11110000, 3), 2);  // the right half
+    EXPECT_EQ(bitmaskBranchNode(1, 0), 0);           // a single-leaf tree
     EXPECT_EQ(bitmaskBranchNode(std::uint64_t(1) << 63, 6), 63 + 63);  // the last of 64 leaves
 }
 

@@ -390,11 +390,14 @@ TEST(Cli, MpiRenderSplitsAFrameAndEqualsTheLocalRender) {
     if (std::system("command -v mpirun > /dev/null 2>&1") != 0) GTEST_SKIP() << "no mpirun";
     const std::string dir = patchsim::test::temporaryDirectory() + "/mpi-render";
     fs::remove_all(dir);
-    const std::string scene = writeFile("mpi-scene.json", R"({"film": {"width": 40, "height": 30, "spp": 4},
+    const std::string scene =
+        writeFile("mpi-scene.json", R"({"film": {"width": 40, "height": 30, "spp": 4},
         "lens": {"aperture_radius": 0.1, "focus_distance": 6},
-        "objects": [{"cage": ")" + sourcePath("scenes/cages/catmark_torus.obj") + R"(",
+        "objects": [{"cage": ")" + sourcePath("scenes/cages/catmark_torus.obj") +
+                                        R"(",
                      "close": {"translate": [0.5, 0, 0]}, "material": {"opacity": 0.6}},
-                    {"cage": ")" + sourcePath("scenes/cages/loop_icosahedron.obj") + R"(",
+                    {"cage": ")" + sourcePath("scenes/cages/loop_icosahedron.obj") +
+                                        R"(",
                      "open": {"translate": [0, 0, -1]}}]})");
     const std::string mpi =
         "ASAN_OPTIONS=detect_leaks=0 OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 "
@@ -409,7 +412,8 @@ TEST(Cli, MpiRenderSplitsAFrameAndEqualsTheLocalRender) {
         std::size_t files = 0;
         for (const auto& entry : fs::directory_iterator(local)) {
             const std::string name = entry.path().filename().string();
-            std::ifstream a(entry.path(), std::ios::binary), b(split + "/" + name, std::ios::binary);
+            std::ifstream a(entry.path(), std::ios::binary),
+                b(split + "/" + name, std::ios::binary);
             const std::string bytesA((std::istreambuf_iterator<char>(a)), {});
             const std::string bytesB((std::istreambuf_iterator<char>(b)), {});
             EXPECT_TRUE(!bytesA.empty() && bytesA == bytesB) << method << " " << name << " differs";
@@ -419,8 +423,8 @@ TEST(Cli, MpiRenderSplitsAFrameAndEqualsTheLocalRender) {
     }
     // An output refused by rank 0 ends every rank, exit 2, no hang.
     const std::string file = writeFile("mpi-render/not-a-folder", "x");
-    const int status =
-        std::system((mpi + PATCHSIM_BINARY + " render -q -o " + file + " > /dev/null 2>&1").c_str());
+    const int status = std::system(
+        (mpi + PATCHSIM_BINARY + " render -q -o " + file + " > /dev/null 2>&1").c_str());
     ASSERT_TRUE(WIFEXITED(status));
     EXPECT_EQ(WEXITSTATUS(status), 2) << "124 means a rank hung";
 }
@@ -430,11 +434,13 @@ TEST(Cli, SweepWritesResultsImagesPlotsAndReusesTheConvergedImage) {
     fs::remove_all(dir);
     const std::string scene = writeFile("sweep-scene.json", R"({"film": {"width": 48, "height": 32},
         "lens": {"aperture_radius": 0.1, "focus_distance": 5},
-        "objects": [{"cage": ")" + sourcePath("scenes/cages/catmark_torus.obj") + R"(",
+        "objects": [{"cage": ")" + sourcePath("scenes/cages/catmark_torus.obj") +
+                                                                R"(",
                      "open": {"rotate_degrees": [60, 0, 0]}, "close": {"translate": [0.8, 0, 0]}}]})");
     const std::string args = "sweep " + scene +
                              " --methods patch,interval,interleaved --spp 1,4 --repeats 1 "
-                             "--blur 1,3 --no-progress -o " + dir;
+                             "--blur 1,3 --no-progress -o " +
+                             dir;
     CommandResult r = run(args);
     ASSERT_EQ(r.exitCode, 0) << r.output;
     EXPECT_NE(r.output.find("sweep-scene: converged image (64 spp, patch method) rendered"),

@@ -58,8 +58,8 @@ TEST(ImageMetrics, SsimMatchesScikitImageOnKnownPairs) {
     for (int j = 0; j < h; ++j)
         for (int i = 0; i < w; ++i) {
             const float v = 0.5f + 0.3f * std::sin(0.7f * float(i)) * std::cos(0.45f * float(j));
-            const float shifted = std::clamp(v + 0.1f * std::sin(1.3f * float(i) + 0.2f * float(j)),
-                                             0.0f, 1.0f);
+            const float shifted =
+                std::clamp(v + 0.1f * std::sin(1.3f * float(i) + 0.2f * float(j)), 0.0f, 1.0f);
             x.set(i, j, Vec3(v));
             y.set(i, j, Vec3(shifted));
             inverted.set(i, j, Vec3(1.0f - v));

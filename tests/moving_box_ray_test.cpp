@@ -18,7 +18,8 @@ bool exactHit(const Ray& r, const LBBox& b) {
             if (r.origin[k] < a || r.origin[k] > c) return false;
             continue;
         }
-        const double e0 = (a - r.origin[k]) / r.direction[k], e1 = (c - r.origin[k]) / r.direction[k];
+        const double e0 = (a - r.origin[k]) / r.direction[k],
+                     e1 = (c - r.origin[k]) / r.direction[k];
         lo = std::max(lo, std::min(e0, e1));
         hi = std::min(hi, std::max(e0, e1));
     }

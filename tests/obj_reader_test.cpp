@@ -94,7 +94,8 @@ TEST(ObjReader, TagCountsAndValuesOutOfRangeAreErrorsNotOverflow) {
     EXPECT_NE(errorOf(triangle + "t crease 1174871153/0/1174871153 0 1\n")
                   .find("line 5, column 10: tag counts must be nint/nfloat/nstring, each 0 to"),
               std::string::npos);
-    EXPECT_NE(errorOf(triangle + "t crease 99999999999999999999/0/0 0\n").find("line 5, column 10: expected an integer"),
+    EXPECT_NE(errorOf(triangle + "t crease 99999999999999999999/0/0 0\n")
+                  .find("line 5, column 10: expected an integer"),
               std::string::npos);
     EXPECT_NE(errorOf(triangle + "t crease 2/1\n").find("must be nint/nfloat/nstring"),
               std::string::npos);

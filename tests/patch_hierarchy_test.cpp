@@ -27,7 +27,8 @@ MovingMesh movingGrid(int n, std::uint32_t seed) {
         for (int i = 0; i < n; ++i) {
             const std::uint32_t a = std::uint32_t(j * (n + 1) + i);
             m.indices.insert(m.indices.end(), {a, a + 1, a + std::uint32_t(n) + 2});
-            m.indices.insert(m.indices.end(), {a, a + std::uint32_t(n) + 2, a + std::uint32_t(n) + 1});
+            m.indices.insert(m.indices.end(),
+                             {a, a + std::uint32_t(n) + 2, a + std::uint32_t(n) + 1});
         }
     return m;
 }

@@ -52,8 +52,10 @@ TEST(ScreenBounds, HoldEveryPointAtEveryTimeFromEveryLensPoint) {
                 // Where a ray from the lens point through p meets the z = -1 plane (the screen of
                 // rasterToScreen), for a lens focused at F: the image of p.
                 const float depth = -p.z;
-                const Vec2 onFocus = Vec2(lensPoint) +
-                                     (Vec2(p.x, p.y) - lensPoint) * (lens.radius > 0 ? lens.focusDistance / depth : 1.0f / depth);
+                const Vec2 onFocus =
+                    Vec2(lensPoint) +
+                    (Vec2(p.x, p.y) - lensPoint) *
+                        (lens.radius > 0 ? lens.focusDistance / depth : 1.0f / depth);
                 const Vec2 screen = lens.radius > 0 ? onFocus / lens.focusDistance : onFocus;
                 const float tanX = camera.tanHalfFovY() * camera.aspect();
                 const float px = (screen.x / tanX + 1.0f) * 0.5f * 64.0f;

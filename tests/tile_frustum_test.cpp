@@ -68,10 +68,10 @@ TEST(TileTraversal, ReportsLeavesTimesAndWhyATileWasRejected) {
     MovingMesh mesh;
     // Two triangles far apart in x: leaf 0 near the axis, leaf 1 off screen.
     const LBBox near = boxMovingInX(-3, 3), far = boxMovingInX(20, 20);
-    mesh.position0 = {near.bounds0.lower, near.bounds0.upper, near.bounds0.lower, far.bounds0.lower,
-                      far.bounds0.upper, far.bounds0.lower};
-    mesh.position1 = {near.bounds1.lower, near.bounds1.upper, near.bounds1.lower, far.bounds1.lower,
-                      far.bounds1.upper, far.bounds1.lower};
+    mesh.position0 = {near.bounds0.lower, near.bounds0.upper, near.bounds0.lower,
+                      far.bounds0.lower,  far.bounds0.upper,  far.bounds0.lower};
+    mesh.position1 = {near.bounds1.lower, near.bounds1.upper, near.bounds1.lower,
+                      far.bounds1.lower,  far.bounds1.upper,  far.bounds1.lower};
     mesh.domain = {Vec2(0.1f), Vec2(0.2f), Vec2(0.1f), Vec2(0.8f), Vec2(0.9f), Vec2(0.8f)};
     mesh.indices = {0, 1, 2, 3, 4, 5};
     const std::uint32_t tris[2] = {0, 1};
@@ -79,8 +79,8 @@ TEST(TileTraversal, ReportsLeavesTimesAndWhyATileWasRejected) {
     h.build(mesh, tris, 2, 1);
     ASSERT_EQ(h.leafCount(), 2);
     RasterWork work;
-    const TileTraversal centre = traverseTile(
-        h, makeTileFrustum(camera, {}, {28, 28, 36, 36}, 1000), true, true, work);
+    const TileTraversal centre =
+        traverseTile(h, makeTileFrustum(camera, {}, {28, 28, 36, 36}, 1000), true, true, work);
     EXPECT_TRUE(centre.overlaps);
     EXPECT_EQ(centre.leafMask, 1u);
     EXPECT_GT(centre.times.lower, 0.4f);

@@ -43,7 +43,8 @@ TEST(TileSamples, EverySampleOnceInItsTileOrderedByTimeThenRecord) {
                         ++seen[s.record];
                         if (i > 0) {
                             const TileSample& p = tile[i - 1];
-                            EXPECT_TRUE(p.time < s.time || (p.time == s.time && p.record < s.record))
+                            EXPECT_TRUE(p.time < s.time ||
+                                        (p.time == s.time && p.record < s.record))
                                 << "tile " << tx << "," << ty << " position " << i;
                         }
                     }

@@ -334,8 +334,8 @@ int runExplore(const ExploreCommand& e, const MpiContext& mpi) {
 
 struct SweepCommand {
     std::vector<std::string> scenes;
-    std::string methods = "patch,triangle-bbox,interval,interleaved", spp = "1,4,16,64",
-                blur = "1", output = "sweep", hardware;
+    std::string methods = "patch,triangle-bbox,interval,interleaved", spp = "1,4,16,64", blur = "1",
+                output = "sweep", hardware;
     int repeats = 3, convergedSpp = 0, threads = 0, timeStrata = 4;
     std::uint64_t memoryBudgetMiB = 4096;
     bool noProgress = false;
@@ -361,14 +361,16 @@ int runSweepCommand(const SweepCommand& c) {
     for (const std::string& text : splitList(c.spp)) {
         const nlohmann::json v = optionValueFromText(text);
         if (!v.is_number_integer() || v.get<std::int64_t>() < 1 || v.get<std::int64_t>() > 4096)
-            throw InputError("command line", "--spp", "'" + text + "' is not a whole number in [1, 4096]");
+            throw InputError("command line", "--spp",
+                             "'" + text + "' is not a whole number in [1, 4096]");
         o.samplesPerPixel.push_back(int(v.get<std::int64_t>()));
     }
     std::vector<float> blurs;
     for (const std::string& text : splitList(c.blur)) {
         const nlohmann::json v = optionValueFromText(text);
         if (!v.is_number() || !(v.get<double>() > 0) || v.get<double>() > 1e3)
-            throw InputError("command line", "--blur", "'" + text + "' is not a scale in (0, 1000]");
+            throw InputError("command line", "--blur",
+                             "'" + text + "' is not a scale in (0, 1000]");
         blurs.push_back(float(v.get<double>()));
     }
     if (o.methods.empty() || o.samplesPerPixel.empty() || blurs.empty())
@@ -385,7 +387,8 @@ int runSweepCommand(const SweepCommand& c) {
     std::vector<std::string> paths = c.scenes;
     if (paths.empty()) paths.push_back("");
     for (const std::string& path : paths) {
-        const SceneDesc scene = path.empty() ? defaultScene(o.limits) : readSceneOrCage(path, o.limits);
+        const SceneDesc scene =
+            path.empty() ? defaultScene(o.limits) : readSceneOrCage(path, o.limits);
         const std::string stem =
             path.empty() ? "default" : std::filesystem::path(path).stem().string();
         for (float blur : blurs) {
@@ -462,30 +465,35 @@ int main(int argc, char** argv) {
         "sweep", "Accuracy against time: every method at every sample count (docs/ACCURACY.md)");
     sweep->add_option("scenes", sweepOptions.scenes,
                       "Scene JSON files or cages (default: the built-in scene)");
-    sweep->add_option("--methods", sweepOptions.methods,
-                      "Comma-separated methods: " + visibilityMethodNames())
+    sweep
+        ->add_option("--methods", sweepOptions.methods,
+                     "Comma-separated methods: " + visibilityMethodNames())
         ->capture_default_str();
     sweep->add_option("--spp", sweepOptions.spp, "Comma-separated samples per pixel")
         ->capture_default_str();
-    sweep->add_option("--blur", sweepOptions.blur,
-                      "Comma-separated scales of every scene's motion and aperture")
+    sweep
+        ->add_option("--blur", sweepOptions.blur,
+                     "Comma-separated scales of every scene's motion and aperture")
         ->capture_default_str();
-    sweep->add_option("-o,--output", sweepOptions.output,
-                      "Folder for results.csv, images/, plots/ and the converged cache")
+    sweep
+        ->add_option("-o,--output", sweepOptions.output,
+                     "Folder for results.csv, images/, plots/ and the converged cache")
         ->capture_default_str();
     sweep->add_option("--repeats", sweepOptions.repeats, "Renders per run; the median time counts")
         ->check(CLI::Range(1, 100))
         ->capture_default_str();
-    sweep->add_option("--converged-spp", sweepOptions.convergedSpp,
-                      "Samples per pixel of the converged image (0: 16 x the largest --spp)")
+    sweep
+        ->add_option("--converged-spp", sweepOptions.convergedSpp,
+                     "Samples per pixel of the converged image (0: 16 x the largest --spp)")
         ->check(CLI::Range(0, 1 << 20));
     sweep->add_option("--time-strata", sweepOptions.timeStrata, "K of the interval method")
         ->check(CLI::Range(1, 64));
     sweep->add_option("--threads", sweepOptions.threads, "Worker threads (0: all cores)")
         ->check(kThreadCount);
     sweep->add_option("--hw", sweepOptions.hardware, "Hardware configuration for modelled cycles");
-    sweep->add_option("--memory-budget-mib", sweepOptions.memoryBudgetMiB,
-                      "Largest film a run may ask for, in MiB of per-sample state")
+    sweep
+        ->add_option("--memory-budget-mib", sweepOptions.memoryBudgetMiB,
+                     "Largest film a run may ask for, in MiB of per-sample state")
         ->check(kBudgetMiB);
     sweep->add_flag("--no-progress", sweepOptions.noProgress, "No progress bar");
 

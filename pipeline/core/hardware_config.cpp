@@ -27,10 +27,10 @@ constexpr const char* kOpNames[kOpCount] = {"patches",
                                             "depth_tests",
                                             "transparent_fragments",
                                             "triangle_setups"};
-constexpr Stage kOpStages[kOpCount] = {
-    Stage::IA, Stage::VS, Stage::HS, Stage::TS, Stage::TS, Stage::DS, Stage::DS, Stage::RS,
-    Stage::RS, Stage::RS, Stage::RS, Stage::RS, Stage::RS, Stage::PS, Stage::OM, Stage::OM,
-    Stage::RS};
+constexpr Stage kOpStages[kOpCount] = {Stage::IA, Stage::VS, Stage::HS, Stage::TS, Stage::TS,
+                                       Stage::DS, Stage::DS, Stage::RS, Stage::RS, Stage::RS,
+                                       Stage::RS, Stage::RS, Stage::RS, Stage::PS, Stage::OM,
+                                       Stage::OM, Stage::RS};
 
 int findOp(const std::string& name, Stage stage) {
     for (int k = 0; k < kOpCount; ++k)

@@ -18,20 +18,20 @@ const char* stageName(Stage s);
 
 // Operation kinds the timing model charges, each done by one stage.
 enum class Op : std::uint8_t {
-    Patches,              // IA
-    ControlPoints,        // VS
-    EdgeFactors,          // HS
-    DomainPoints,         // TS
-    Triangles,            // TS
-    Evaluations,          // DS: limit stencils evaluated
-    StencilApplications,  // DS
-    NodesBuilt,           // RS: hierarchy nodes
-    PlaneTests,           // RS
-    TimeIntervals,        // RS
-    SamplesTested,        // RS
-    RayBoxTests,          // RS
-    RayTriangleTests,     // RS
-    Invocations,          // PS
+    Patches,               // IA
+    ControlPoints,         // VS
+    EdgeFactors,           // HS
+    DomainPoints,          // TS
+    Triangles,             // TS
+    Evaluations,           // DS: limit stencils evaluated
+    StencilApplications,   // DS
+    NodesBuilt,            // RS: hierarchy nodes
+    PlaneTests,            // RS
+    TimeIntervals,         // RS
+    SamplesTested,         // RS
+    RayBoxTests,           // RS
+    RayTriangleTests,      // RS
+    Invocations,           // PS
     DepthTests,            // OM: visibility samples written
     TransparentFragments,  // OM
     TriangleSetups         // RS: triangle screen bounds (the bounding-box methods)

@@ -12,10 +12,10 @@ Progress::Progress(std::string label, std::int64_t total, std::int64_t unitsPerI
       total_(std::max<std::int64_t>(total, 1)),
       unitsPerItem_(std::max<std::int64_t>(unitsPerItem, 1)),
       items_(std::move(items)),
-      style_(!enabled               ? Style::Silent
-             : terminalAttached()   ? Style::Bar
-             : share != nullptr     ? Style::Lines
-                                    : Style::Silent),
+      style_(!enabled             ? Style::Silent
+             : terminalAttached() ? Style::Bar
+             : share != nullptr   ? Style::Lines
+                                  : Style::Silent),
       share_(share),
       start_(std::chrono::steady_clock::now()),
       lastDraw_(start_) {}
@@ -46,8 +46,8 @@ void Progress::advance(std::int64_t units) {
     done_ += units;
     if (style_ == Style::Silent && !share_) return;
     const auto now = std::chrono::steady_clock::now();
-    const auto every = style_ == Style::Lines ? std::chrono::milliseconds(2000)
-                                              : std::chrono::milliseconds(100);
+    const auto every =
+        style_ == Style::Lines ? std::chrono::milliseconds(2000) : std::chrono::milliseconds(100);
     std::unique_lock lock(mutex_, std::try_to_lock);
     if (!lock.owns_lock() || now - lastDraw_ < every) return;
     lastDraw_ = now;
@@ -66,8 +66,8 @@ void Progress::draw(bool final) {
     for (int i = 0; i < kWidth; ++i) bar[i] = i < int(fraction * kWidth) ? '#' : '.';
     bar[kWidth] = 0;
     const bool redraw = style_ == Style::Bar;
-    std::fprintf(stderr, "%s%s [%s] %3d%%  %lld/%lld %s  %s %.1f s%s%s%s",
-                 redraw ? "\r\033[K" : "", label_.c_str(), bar, int(fraction * 100.0),
+    std::fprintf(stderr, "%s%s [%s] %3d%%  %lld/%lld %s  %s %.1f s%s%s%s", redraw ? "\r\033[K" : "",
+                 label_.c_str(), bar, int(fraction * 100.0),
                  static_cast<long long>(done / unitsPerItem_),
                  static_cast<long long>(total_ / unitsPerItem_), items_.c_str(),
                  final ? "took" : "left", final ? elapsed : left, detail_.empty() ? "" : "  ",

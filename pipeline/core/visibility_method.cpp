@@ -8,7 +8,8 @@ const std::vector<VisibilityMethodInfo>& visibilityMethods() {
         {VisibilityMethod::Reference, "reference", true,
          "every sample against every triangle: the oracle"},
         {VisibilityMethod::TriangleBBox, "triangle-bbox", true,
-         "Akenine-Moller et al. 2007, McGuire et al. 2010: each triangle's bounds over the shutter"},
+         "Akenine-Moller et al. 2007, McGuire et al. 2010: each triangle's bounds over the "
+         "shutter"},
         {VisibilityMethod::Interval, "interval", true,
          "Fatahalian et al. 2009: time strata, per-stratum bounds"},
         {VisibilityMethod::Interleaved, "interleaved", false,

@@ -9,12 +9,18 @@
 
 namespace patchsim {
 
-enum class VisibilityMethod : std::uint8_t { Patch, Reference, TriangleBBox, Interval, Interleaved };
+enum class VisibilityMethod : std::uint8_t {
+    Patch,
+    Reference,
+    TriangleBBox,
+    Interval,
+    Interleaved
+};
 
 struct VisibilityMethodInfo {
     VisibilityMethod method;
-    const char* name;  // as on the command line: "triangle-bbox"
-    bool exact;        // same samples, same nearest hits as the reference
+    const char* name;   // as on the command line: "triangle-bbox"
+    bool exact;         // same samples, same nearest hits as the reference
     const char* after;  // where it comes from
 };
 

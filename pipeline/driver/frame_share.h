@@ -26,10 +26,10 @@ namespace patchsim {
 
 struct FrameRows {
     VisibilityBuffer* visibility = nullptr;
-    TransparentLayers* transparent = nullptr;     // may be null
-    PixelCounters* pixels = nullptr;              // may be null
-    std::vector<RasterWork>* tileWork = nullptr;          // per patch (patch method)
-    std::vector<BoundingWork>* boundingWork = nullptr;    // per patch (bounding-box methods)
+    TransparentLayers* transparent = nullptr;           // may be null
+    PixelCounters* pixels = nullptr;                    // may be null
+    std::vector<RasterWork>* tileWork = nullptr;        // per patch (patch method)
+    std::vector<BoundingWork>* boundingWork = nullptr;  // per patch (bounding-box methods)
     CounterValues* counters = nullptr;  // packed: this rank's visibility counts; unpacked: merged
 };
 

@@ -275,7 +275,7 @@ RenderResult renderScene(const SceneDesc& scene, const RenderOptions& options) {
         // their tile work and what their visibility step counted.
         CounterValues counts = CounterRegistry::instance().snapshot().since(beforeVisibility);
         const FrameRows rows{result.visibility.get(), result.transparent.get(), result.pixels.get(),
-                             &visibility.tiles, &visibility.bounding, &counts};
+                             &visibility.tiles,       &visibility.bounding,     &counts};
         const std::vector<std::string> parts = share.gather(
             share.root() ? std::string()
                          : packFrameRows(rows, visibility.ownsPixelRow, visibility.ownsTileRow));
@@ -303,7 +303,8 @@ RenderResult renderScene(const SceneDesc& scene, const RenderOptions& options) {
     if (options.method == VisibilityMethod::Reference) {
         const std::vector<RasterWork> work =
             referencePatchWork(fe.meshes, *result.visibility, result.transparent.get());
-        for (std::size_t i = 0; i < result.patches; ++i) chargeRasterWork(work[i], visibilityOps[i]);
+        for (std::size_t i = 0; i < result.patches; ++i)
+            chargeRasterWork(work[i], visibilityOps[i]);
     }
     result.visibilitySeconds = secondsSince(start);
 
@@ -315,9 +316,9 @@ RenderResult renderScene(const SceneDesc& scene, const RenderOptions& options) {
                                     options.resolve, workers, &progress);
     }
     result.shadingSeconds = secondsSince(start);
-    result.patchOps =
-        collectPatchOps(fe.patches, shadingWorkPerPatch(*result.visibility, result.transparent.get(),
-                                                        options.resolve.shadingRate, result.patches));
+    result.patchOps = collectPatchOps(
+        fe.patches, shadingWorkPerPatch(*result.visibility, result.transparent.get(),
+                                        options.resolve.shadingRate, result.patches));
     for (std::size_t i = 0; i < result.patches; ++i)
         for (int op = 0; op < kOpCount; ++op)
             if (stageOf(Op(op)) == Stage::RS || op == int(Op::DepthTests) ||

@@ -29,7 +29,6 @@
 
 namespace patchsim {
 
-
 // One frame split between `ranks` processes; `gather` brings every rank's bytes to rank 0 (in
 // rank order; empty on the others), as MPI_Gatherv does.
 struct FrameShare {

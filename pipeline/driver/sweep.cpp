@@ -99,10 +99,11 @@ std::string sweepCsvHeader() {
 std::string sweepCsvRow(const SweepRow& r) {
     return r.scene + "," + r.method + "," + std::to_string(r.spp) + "," + number(r.wallSeconds) +
            "," + number(r.modelledCycles) + "," + std::to_string(r.visibility.samplesTested) + "," +
-           std::to_string(r.visibility.rays) + "," + std::to_string(r.visibility.visibilitySamples) +
-           "," + number(r.visibility.sampleTestEfficiency) + "," +
-           std::to_string(r.shadingInvocations) + "," + number(r.rmse) + "," + number(r.psnr) +
-           "," + number(r.ssim) + "," + number(r.coverageError);
+           std::to_string(r.visibility.rays) + "," +
+           std::to_string(r.visibility.visibilitySamples) + "," +
+           number(r.visibility.sampleTestEfficiency) + "," + std::to_string(r.shadingInvocations) +
+           "," + number(r.rmse) + "," + number(r.psnr) + "," + number(r.ssim) + "," +
+           number(r.coverageError);
 }
 
 std::vector<SweepRow> runSweep(const std::vector<SweepScene>& scenes, const SweepOptions& o,
@@ -113,18 +114,20 @@ std::vector<SweepRow> runSweep(const std::vector<SweepScene>& scenes, const Swee
     outputs.folder(dir + "/images", "-o");
     outputs.file(dir + "/results.csv", "-o");
     const int maxSpp = *std::max_element(o.samplesPerPixel.begin(), o.samplesPerPixel.end());
-    const int convergedSpp = o.convergedSamplesPerPixel > 0 ? o.convergedSamplesPerPixel : 16 * maxSpp;
+    const int convergedSpp =
+        o.convergedSamplesPerPixel > 0 ? o.convergedSamplesPerPixel : 16 * maxSpp;
     std::vector<SweepRow> rows;
     Progress progress("sweep     ",
-                      std::int64_t(scenes.size() * o.methods.size() * o.samplesPerPixel.size()),
-                      1, o.progress, "runs");
+                      std::int64_t(scenes.size() * o.methods.size() * o.samplesPerPixel.size()), 1,
+                      o.progress, "runs");
     for (const SweepScene& s : scenes) {
         progress.describe(s.label + ": converged image, " + std::to_string(convergedSpp) + " spp");
         const ConvergedImage converged =
             convergedImage(s.scene, convergedSpp, o.render, dir + "/converged");
         log << s.label << ": converged image (" << convergedSpp << " spp, patch method) "
             << (converged.fromCache ? "reused from " : "rendered into ") << converged.path << "\n";
-        writePng(converged.color, outputs.file(dir + "/images/" + s.label + "-converged.png", "-o"));
+        writePng(converged.color,
+                 outputs.file(dir + "/images/" + s.label + "-converged.png", "-o"));
         for (VisibilityMethod method : o.methods) {
             for (int spp : o.samplesPerPixel) {
                 const std::string run =

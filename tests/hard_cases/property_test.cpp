@@ -47,7 +47,8 @@ TEST(PropertyTest, RandomMovingDefocusedPatchesAreConservativeAndExact) {
     for (int c = 0; c < cases; ++c) {
         SceneDesc scene;
         scene.path = "property case " + std::to_string(c);
-        scene.film = {12, 10, 2, std::uint64_t(c), c % 5 == 0 ? SamplePattern::Grid : SamplePattern::Stratified};
+        scene.film = {12, 10, 2, std::uint64_t(c),
+                      c % 5 == 0 ? SamplePattern::Grid : SamplePattern::Stratified};
         scene.camera.open = {{0, 0, 4}, {0, 0, 0}, {0, 1, 0}};
         scene.camera.close =
             c % 7 == 0 ? CameraKey{{0.5f, 0, 4}, {0.5f, 0, 0}, {0, 1, 0}} : scene.camera.open;
