@@ -61,6 +61,7 @@ void visibility(benchmark::State& state, const SceneDesc& scene) {
     state.counters["ray-tri/ray"] = perFrame(total.rayTriangleTests) / perFrame(total.raysCast);
     state.counters["tiles"] = perFrame(total.tilesInBounds);
     state.counters["plane tests"] = perFrame(total.planeTests);
+    state.counters["groups"] = perFrame(total.groups);
     state.counters["rays/s"] =
         benchmark::Counter(double(total.raysCast), benchmark::Counter::kIsRate);
 }
@@ -92,5 +93,26 @@ void defocusBlurLevel(benchmark::State& state) {
     visibility(state, scene);
 }
 BENCHMARK(defocusBlurLevel)->Arg(3)->Arg(12)->Arg(48)->Unit(benchmark::kMillisecond);
+
+// The patent's three bounds spaces for the tile tests (range(0): 0 3D, 1 2DH, 2 2D), the default
+// scene; the samples are the same in all three (tests), the work is not.
+void boundsSpace(benchmark::State& state) {
+    SceneDesc scene = patchsim::defaultScene();
+    scene.rasterizer.boundsSpace = BoundsSpace(state.range(0));
+    state.SetLabel(boundsSpaceName(scene.rasterizer.boundsSpace));
+    visibility(state, scene);
+}
+BENCHMARK(boundsSpace)->DenseRange(0, 2)->Unit(benchmark::kMillisecond);
+
+// Small patches merged into shared hierarchies (range(0): merge_triangles_below; 0 never), on the
+// default scene at tessellation factor 2, where every patch is a handful of triangles.
+void mergeSmallPatches(benchmark::State& state) {
+    SceneDesc scene = patchsim::defaultScene();
+    scene.tessellation.targetEdgePixels = 0;  // fixed factor 2: 8 triangles per quad patch
+    scene.tessellation.factor = 2.0f;
+    scene.rasterizer.mergeTrianglesBelow = int(state.range(0));
+    visibility(state, scene);
+}
+BENCHMARK(mergeSmallPatches)->Arg(0)->Arg(32)->Arg(256)->Unit(benchmark::kMillisecond);
 
 }  // namespace

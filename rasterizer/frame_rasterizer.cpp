@@ -4,6 +4,7 @@
 
 #include "pipeline/core/parallel.h"
 #include "pipeline/core/progress.h"
+#include "rasterizer/patch_merge.h"
 #include "rasterizer/tile_samples.h"
 #include "rasterizer/z_culling.h"
 
@@ -11,23 +12,42 @@ namespace patchsim {
 
 namespace {
 
-// Every group of every patch, prepared (hierarchy and covered tiles).
-std::vector<std::vector<PatchRasterizer::Group>> prepareGroups(
-    const std::vector<MovingMesh>& meshes, const PatchRasterizer& rasterizer, int threads,
-    std::vector<RasterWork>& work) {
-    std::vector<std::vector<PatchRasterizer::Group>> groups(meshes.size());
-    parallelFor(meshes.size(), threads, [&](int, std::size_t i) {
-        ++work[i].patches;
+// Every group of every unit, prepared (hierarchy and covered tiles); a unit's work goes to its
+// first patch.
+std::vector<std::vector<PatchRasterizer::Group>> prepareGroups(const RasterUnits& units,
+                                                               const PatchRasterizer& rasterizer,
+                                                               int threads,
+                                                               std::vector<RasterWork>& work) {
+    std::vector<std::vector<PatchRasterizer::Group>> groups(units.meshes.size());
+    parallelFor(units.meshes.size(), threads, [&](int, std::size_t u) {
+        const MovingMesh& mesh = *units.meshes[u];
+        RasterWork& w = work[units.firstPatch[u]];
+        w.patches += std::int64_t(units.patchCount[u]);
+        if (units.patchCount[u] > 1) w.patchesMerged += std::int64_t(units.patchCount[u]);
         std::vector<std::uint32_t> triangles, groupBegin;
-        splitIntoGroups(meshes[i], rasterizer.options().trianglesPerGroup(), triangles, groupBegin);
+        splitIntoGroups(mesh, rasterizer.options().trianglesPerGroup(), triangles, groupBegin);
         for (std::size_t g = 0; g + 1 < groupBegin.size(); ++g) {
             if (groupBegin[g] == groupBegin[g + 1]) continue;
-            groups[i].emplace_back();
-            rasterizer.prepareGroup(meshes[i], triangles.data() + groupBegin[g],
-                                    groupBegin[g + 1] - groupBegin[g], groups[i].back(), work[i]);
+            groups[u].emplace_back();
+            rasterizer.prepareGroup(mesh, triangles.data() + groupBegin[g],
+                                    groupBegin[g + 1] - groupBegin[g], groups[u].back(), w);
         }
     });
     return groups;
+}
+
+// Units in the order their first patch comes in `order`.
+std::vector<std::size_t> unitOrder(const RasterUnits& units,
+                                   const std::vector<std::size_t>& order) {
+    std::vector<std::size_t> result;
+    std::vector<bool> seen(units.meshes.size(), false);
+    for (std::size_t i : order) {
+        const std::size_t u = units.unitOf[i];
+        if (seen[u]) continue;
+        seen[u] = true;
+        result.push_back(u);
+    }
+    return result;
 }
 
 }  // namespace
@@ -43,7 +63,11 @@ FrameRasterWork rasterizeFrame(const std::vector<MovingMesh>& meshes,
     FrameRasterWork work;
     work.hierarchies.resize(meshes.size());
     work.tiles.resize(meshes.size());
-    const auto groups = prepareGroups(meshes, rasterizer, options.threads, work.hierarchies);
+    const RasterizerOptions& ro = rasterizer.options();
+    const RasterUnits units =
+        makeRasterUnits(meshes, ro.mergeTrianglesBelow, ro.trianglesPerGroup());
+    const std::vector<std::size_t> unitsInOrder = unitOrder(units, order);
+    const auto groups = prepareGroups(units, rasterizer, options.threads, work.hierarchies);
     const TileSamples tileSamples(rasterizer.tileGrid(), rasterizer.caster().camera,
                                   rasterizer.caster().samples, options.threads);
     TileDepthBounds depthBounds(rasterizer.tileGrid(), *targets.opaque);
@@ -58,16 +82,16 @@ FrameRasterWork rasterizeFrame(const std::vector<MovingMesh>& meshes,
         mine.pool = rowClass;
         mine.tileSamples = &tileSamples;
         mine.depthBounds = &depthBounds;
-        for (std::size_t i : order) {
-            RasterWork& tileWork = classWork[rowClassIndex][i];
-            for (const PatchRasterizer::Group& group : groups[i]) {
+        for (std::size_t u : unitsInOrder) {
+            RasterWork& tileWork = classWork[rowClassIndex][units.firstPatch[u]];
+            for (const PatchRasterizer::Group& group : groups[u]) {
                 for (int ty = group.tiles.y0; ty < std::min(group.tiles.y1, tileRows); ++ty) {
                     if (!inRowClass(ty, rowClass)) continue;
                     for (int tx = group.tiles.x0; tx < group.tiles.x1; ++tx)
-                        rasterizer.rasterizeTile(meshes[i], group, tx, ty, mine, tileWork);
+                        rasterizer.rasterizeTile(*units.meshes[u], group, tx, ty, mine, tileWork);
                 }
             }
-            if (options.progress) options.progress->advance();
+            if (options.progress) options.progress->advance(std::int64_t(units.patchCount[u]));
         }
     });
     for (const auto& rows : classWork)

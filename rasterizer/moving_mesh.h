@@ -24,6 +24,10 @@ struct MovingMesh {
     int patchId = -1;
     int objectId = -1;
     bool opaque = true;  // false: every hit goes to the transparent layers
+    // Set when neighbouring patches were merged into this mesh (patch_merge.h): each triangle's
+    // own patch and its index there, which its hits carry.
+    std::vector<int> trianglePatch;
+    std::vector<std::uint32_t> triangleInPatch;
 
     std::size_t triangleCount() const { return indices.size() / 3; }
     Vec3 vertexAt(std::uint32_t v, float t) const { return lerp(position0[v], position1[v], t); }
@@ -40,6 +44,15 @@ struct MovingMesh {
         position1.clear();
         domain.clear();
         indices.clear();
+        trianglePatch.clear();
+        triangleInPatch.clear();
+    }
+    // The patch and triangle a hit on `triangle` reports.
+    int patchOf(std::uint32_t triangle) const {
+        return trianglePatch.empty() ? patchId : trianglePatch[triangle];
+    }
+    std::uint32_t triangleInPatchOf(std::uint32_t triangle) const {
+        return triangleInPatch.empty() ? triangle : triangleInPatch[triangle];
     }
 };
 

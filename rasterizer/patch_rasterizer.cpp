@@ -26,6 +26,7 @@ void PatchRasterizer::prepareGroup(const MovingMesh& mesh, const std::uint32_t* 
     const auto bytes = std::int64_t(group.hierarchy.bytes());
     work.hierarchyBytes += bytes;
     work.peakHierarchyBytes = std::max(work.peakHierarchyBytes, bytes);
+    group.nodes.build(group.hierarchy, options_.boundsSpace, caster_.camera, caster_.lens, work);
     const ScreenBounds bounds =
         screenBounds(group.hierarchy, options_.boundsLevel, caster_.camera, caster_.lens);
     work.fullScreenBounds += bounds.fullScreen;
@@ -41,7 +42,7 @@ void PatchRasterizer::rasterizeTile(const MovingMesh& mesh, const Group& group, 
     const float farDepth =
         options_.zCulling ? targets.depthBounds->bound(tileX, tileY) : caster_.camera.farPlane();
     const TileTraversal traversal =
-        traverseTile(group.hierarchy, makeTileFrustum(caster_.camera, caster_.lens, tile, farDepth),
+        traverseTile(group.hierarchy, group.nodes, {&caster_.camera, caster_.lens, tile, farDepth},
                      effects_.motion, options_.timeRefinement, work);
     if (!traversal.overlaps) return;
     ++work.tilesOverlapping;

@@ -26,6 +26,7 @@
 #include "rasterizer/raster_work.h"
 #include "rasterizer/sample_tracer.h"
 #include "rasterizer/tile_grid.h"
+#include "rasterizer/tile_traversal.h"
 
 namespace patchsim {
 
@@ -36,7 +37,8 @@ class PatchRasterizer {
 
     struct Group {
         PatchHierarchy hierarchy;
-        TileRange tiles;  // the tiles its screen bounds cover
+        SpaceNodes nodes;  // the hierarchy's boxes in the tile tests' bounds space
+        TileRange tiles;   // the tiles its screen bounds cover
     };
     void prepareGroup(const MovingMesh& mesh, const std::uint32_t* triangles, std::size_t count,
                       Group& group, RasterWork& work) const;

@@ -17,6 +17,8 @@
 // X(field, "Stage/Name", "unit", kind, "definition")
 #define PATCHSIM_RASTER_WORK(X)                                                                    \
     X(patches, "RS/Patches", "patches", Sum, "Patches given to the patch rasterizer")              \
+    X(patchesMerged, "RS/Patches merged", "patches", Sum,                                          \
+      "Patches rasterized in a hierarchy shared with their neighbours (merge_triangles_below)")    \
     X(groups, "RS/Groups", "groups", Sum,                                                          \
       "Triangle groups rasterized (a patch is one group unless split)")                            \
     X(nodesBuilt, "RS/Nodes built", "nodes", Sum, "Hierarchy nodes built (moving boxes)")          \
@@ -24,6 +26,8 @@
       "Bytes of all hierarchies built (node boxes and leaf triangle lists)")                       \
     X(peakHierarchyBytes, "RS/Peak hierarchy bytes", "bytes", Max,                                 \
       "Largest single hierarchy, against the on-chip scratch budget")                              \
+    X(nodesConverted, "RS/Nodes converted", "nodes", Sum,                                          \
+      "Hierarchy nodes converted to the 2DH or 2D bounds space (bounds_space), per group")         \
     X(fullScreenBounds, "RS/Full-screen bounds", "groups", Sum,                                    \
       "Groups whose boxes reach in front of the near plane: bounds fall back to the whole screen") \
     X(tilesInBounds, "RS/Tiles in bounds", "tiles", Sum,                                           \

@@ -31,8 +31,8 @@ void forEachLeafHit(const MovingMesh& mesh, const std::uint32_t* triangles, std:
             continue;
         VisibilityRecord record = sample;
         record.depth = hit.lambda * ray.depthPerLambda;
-        record.patch = mesh.patchId;
-        record.triangle = tri;
+        record.patch = mesh.patchOf(tri);
+        record.triangle = mesh.triangleInPatchOf(tri);
         record.b1 = hit.b1;
         record.b2 = hit.b2;
         onHit(record);

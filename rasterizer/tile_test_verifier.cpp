@@ -2,211 +2,499 @@
 
 #include <algorithm>
 #include <cmath>
-#include <random>
+#include <cstdio>
+#include <ostream>
+#include <sstream>
 
-#include "pipeline/core/samples.h"
+#include "pipeline/core/parallel.h"
+#include "rasterizer/branch_node.h"
+#include "rasterizer/screen_bounds.h"
+#include "rasterizer/tile_test_cases.h"
+#include "rasterizer/tile_traversal.h"
 
 namespace patchsim {
 
+// ---- Registry ----
+
+namespace {
+
 std::vector<std::unique_ptr<TileTestVariant>>& tileTestRegistry() {
-    static std::vector<std::unique_ptr<TileTestVariant>> registry;
+    static std::vector<std::unique_ptr<TileTestVariant>> registry = [] {
+        std::vector<std::unique_ptr<TileTestVariant>> builtIn;
+        addPatentTileTests(builtIn);
+        addLiteratureTileTests(builtIn);
+        return builtIn;
+    }();
     return registry;
 }
+
+}  // namespace
 
 void registerTileTest(std::unique_ptr<TileTestVariant> variant) {
     tileTestRegistry().push_back(std::move(variant));
 }
 
 void unregisterTileTest(const std::string& name) {
-    auto& registry = tileTestRegistry();
-    std::erase_if(registry, [&](const auto& v) { return v->name() == name; });
+    std::erase_if(tileTestRegistry(), [&](const auto& v) { return v->name() == name; });
 }
 
 const std::vector<std::unique_ptr<TileTestVariant>>& registeredTileTests() {
     return tileTestRegistry();
 }
 
+const char* caseModelName(CaseModel model) {
+    switch (model) {
+        case CaseModel::Pinhole:
+            return "pinhole";
+        case CaseModel::Lens:
+            return "lens";
+        case CaseModel::Hierarchy:
+            return "hierarchy";
+    }
+    return "?";
+}
+
+// ---- Excess distribution ----
+
+void ExcessHistogram::add(double excess) {
+    const double bin = std::floor(std::max(0.0, excess) / binWidth);
+    ++bins[std::size_t(std::min(bin, double(kBins)))];
+    ++count;
+}
+
+void ExcessHistogram::merge(const ExcessHistogram& o) {
+    for (std::size_t i = 0; i < bins.size(); ++i) bins[i] += o.bins[i];
+    count += o.count;
+}
+
+double ExcessHistogram::quantile(double q) const {
+    if (count == 0) return 0.0;
+    const auto rank = std::int64_t(std::ceil(q * double(count)));
+    std::int64_t seen = 0;
+    for (std::size_t i = 0; i < bins.size(); ++i) {
+        seen += bins[i];
+        if (seen >= std::max<std::int64_t>(rank, 1)) return double(i) * binWidth;
+    }
+    return double(kBins) * binWidth;
+}
+
+bool TileVerifierResult::anyFalseReject() const {
+    return std::any_of(reports.begin(), reports.end(),
+                       [](const TileTestReport& r) { return r.falseRejects > 0; }) ||
+           witnessOutsideTruth > 0;
+}
+
 namespace {
 
-// ---- Built-in variants: the tests the patch rasterizer uses. ----
-
-TileFrustum frustumFor(const TileTestInput& in) {
-    return makeTileFrustum(*in.camera, in.lens, in.tile, in.camera->farPlane());
+enum class Outcome : std::uint8_t { TrueAccept, TrueReject, FalseAccept, FalseReject };
+const char* outcomeName(Outcome o) {
+    constexpr const char* names[] = {"true-accept", "true-reject", "false-accept", "false-reject"};
+    return names[int(o)];
 }
 
-class NVertexTest : public TileTestVariant {
-  public:
-    explicit NVertexTest(bool lens) : lens_(lens) {}
-    std::string name() const override { return lens_ ? "lens-two-plane" : "pinhole-n-vertex"; }
-    bool handlesDefocus() const override { return lens_; }
-    TileTestOutput run(const TileTestInput& in) const override {
-        RasterWork work;
-        return {overlapsFrustum(frustumFor(in), in.box, true, work), TimeRange::shutter()};
-    }
-
-  private:
-    bool lens_;
+// One variant (or hierarchy check) on one case.
+struct CheckResult {
+    Outcome outcome = Outcome::TrueReject;
+    bool accept = false;
+    TimeRange times = TimeRange::empty();
+    double excess = -1;  // < 0: not measured
 };
 
-class TimeIntervalTest : public TileTestVariant {
-  public:
-    explicit TimeIntervalTest(bool lens) : lens_(lens) {}
-    std::string name() const override {
-        return lens_ ? "lens-two-plane-time-interval" : "pinhole-n-vertex-time-interval";
-    }
-    bool handlesDefocus() const override { return lens_; }
-    TileTestOutput run(const TileTestInput& in) const override {
-        RasterWork work;
-        TileTestOutput out;
-        out.accept = leafTimeInterval(frustumFor(in), in.box, out.times, work);
-        return out;
-    }
-
-  private:
-    bool lens_;
+struct CaseTruth {
+    TileTruth exact;
+    std::vector<WitnessHit> witness;
+    bool witnessed = false;
 };
 
-struct PinholeNVertex : NVertexTest {
-    PinholeNVertex() : NVertexTest(false) {}
-};
-struct LensTwoPlane : NVertexTest {
-    LensTwoPlane() : NVertexTest(true) {}
-};
-struct PinholeTime : TimeIntervalTest {
-    PinholeTime() : TimeIntervalTest(false) {}
-};
-struct LensTime : TimeIntervalTest {
-    LensTime() : TimeIntervalTest(true) {}
-};
-PATCHSIM_REGISTER_TILE_TEST(PinholeNVertex);
-PATCHSIM_REGISTER_TILE_TEST(PinholeTime);
-PATCHSIM_REGISTER_TILE_TEST(LensTwoPlane);
-PATCHSIM_REGISTER_TILE_TEST(LensTime);
-
-// ---- Ground truth ----
-
-struct Truth {
-    bool hit = false;
-    std::vector<float> hitTimes;
-};
-
-bool rayHitsBox(const glm::dvec3& o, const glm::dvec3& d, const Box3& b, double lambdaMin,
-                double lambdaMax) {
-    double lo = lambdaMin, hi = lambdaMax;
-    for (int k = 0; k < 3; ++k) {
-        if (d[k] == 0.0) {
-            if (o[k] < b.lower[k] || o[k] > b.upper[k]) return false;
-            continue;
-        }
-        double a = (double(b.lower[k]) - o[k]) / d[k], c = (double(b.upper[k]) - o[k]) / d[k];
-        if (a > c) std::swap(a, c);
-        lo = std::max(lo, a);
-        hi = std::min(hi, c);
-    }
-    return lo <= hi;
+double width(const TimeRange& r) {
+    return r.isEmpty() ? 0.0 : double(r.upper) - double(r.lower);
 }
 
-Truth groundTruth(const TileTestInput& in) {
-    constexpr int kTimes = 33, kScreen = 9, kLens = 5;
-    Truth truth;
-    const Camera& cam = *in.camera;
-    for (int ti = 0; ti < kTimes; ++ti) {
-        const float t = float(ti) / float(kTimes - 1);
-        const Box3 box = in.box.at(t);
-        bool hitAtT = false;
-        for (int ly = 0; ly < (in.lens.radius > 0 ? kLens : 1) && !hitAtT; ++ly) {
-            for (int lx = 0; lx < (in.lens.radius > 0 ? kLens : 1) && !hitAtT; ++lx) {
-                // Lens grid over the square [-R, R]^2 clipped to the disk (extremes included).
-                Vec2 lens(0);
-                if (in.lens.radius > 0) {
-                    lens = Vec2(-1.0f + 2.0f * float(lx) / (kLens - 1),
-                                -1.0f + 2.0f * float(ly) / (kLens - 1));
-                    if (glm::length(lens) > 1.0f) lens /= glm::length(lens);
-                }
-                for (int sy = 0; sy < kScreen && !hitAtT; ++sy) {
-                    for (int sx = 0; sx < kScreen && !hitAtT; ++sx) {
-                        const Vec2 raster(float(in.tile.x0) + float(in.tile.x1 - in.tile.x0) *
-                                                                  float(sx) / (kScreen - 1),
-                                          float(in.tile.y0) + float(in.tile.y1 - in.tile.y0) *
-                                                                  float(sy) / (kScreen - 1));
-                        const Ray ray =
-                            makeCameraRay(cam, rasterToScreen(cam, raster), lens, t, in.lens);
-                        const double dpl = ray.depthPerLambda;
-                        hitAtT = rayHitsBox(glm::dvec3(ray.origin), glm::dvec3(ray.direction), box,
-                                            cam.nearPlane() / dpl, cam.farPlane() / dpl);
-                    }
-                }
-            }
-        }
-        if (hitAtT) {
-            truth.hit = true;
-            truth.hitTimes.push_back(t);
-        }
+// True when some ray from the part of the lens the variant excluded hits.
+bool hitOutsideLensRect(const TileTestInput& in, const LensRect& kept) {
+    if (in.lens.radius <= 0) return false;
+    const LensRect strips[4] = {
+        {-1, kept.u0, -1, 1}, {kept.u1, 1, -1, 1}, {-1, 1, -1, kept.v0}, {-1, 1, kept.v1, 1}};
+    for (int k = 0; k < 4; ++k) {
+        const bool excluded = k == 0   ? kept.u0 > -1
+                              : k == 1 ? kept.u1 < 1
+                              : k == 2 ? kept.v0 > -1
+                                       : kept.v1 < 1;
+        if (excluded && exactTileTruth(*in.camera, in.lens, in.tile, in.box, strips[k]).hit)
+            return true;
+    }
+    return false;
+}
+
+CheckResult judgeBoxVariant(const TileTestVariant& variant, const TileTestInput& in,
+                            const CaseTruth& truth) {
+    const TileTestOutput out = variant.run(in);
+    CheckResult r;
+    r.accept = out.accept;
+    r.times = out.accept ? out.times : TimeRange::empty();
+    if (!truth.exact.hit) {
+        r.outcome = out.accept ? Outcome::FalseAccept : Outcome::TrueReject;
+        return r;
+    }
+    bool missed =
+        !out.accept || out.times.lower > truth.exact.times.lower ||
+        out.times.upper < truth.exact.times.upper ||
+        (!(out.lens.u0 <= -1 && out.lens.u1 >= 1 && out.lens.v0 <= -1 && out.lens.v1 >= 1) &&
+         hitOutsideLensRect(in, out.lens));
+    for (const WitnessHit& h : truth.witness)
+        missed = missed || !out.times.contains(h.time) || !out.lens.contains(h.lens);
+    r.outcome = missed ? Outcome::FalseReject : Outcome::TrueAccept;
+    if (!missed) r.excess = width(out.times) - width(truth.exact.times);
+    return r;
+}
+
+CaseTruth boxTruth(const TileTestInput& in, bool witnessed, std::int64_t& outsideTruth) {
+    CaseTruth truth;
+    truth.exact = exactTileTruth(*in.camera, in.lens, in.tile, in.box);
+    truth.witnessed = witnessed;
+    if (!witnessed) return truth;
+    truth.witness = sampledWitness(*in.camera, in.lens, in.tile, in.box);
+    constexpr float kTolerance = 1e-4f;  // the witness's float rays against the double truth
+    for (const WitnessHit& h : truth.witness)
+        if (!truth.exact.hit || h.time < truth.exact.times.lower - kTolerance ||
+            h.time > truth.exact.times.upper + kTolerance)
+            ++outsideTruth;
+    return truth;
+}
+
+// ---- Hierarchy checks ----
+
+constexpr BoundsSpace kSpaces[] = {BoundsSpace::Camera3D, BoundsSpace::Homogeneous2D,
+                                   BoundsSpace::Screen2D};
+constexpr BranchMethod kBranchMethods[] = {BranchMethod::Root, BranchMethod::FirstSplit,
+                                           BranchMethod::Bitmask};
+constexpr int kBoundsLevels = 4;
+
+std::vector<std::string> hierarchyCheckNames() {
+    std::vector<std::string> names;
+    for (BoundsSpace s : kSpaces) names.push_back(std::string("traversal-") + boundsSpaceName(s));
+    for (BranchMethod m : kBranchMethods)
+        names.push_back(std::string("branch-") + branchMethodName(m));
+    for (int l = 0; l < kBoundsLevels; ++l) names.push_back("bounds-level-" + std::to_string(l));
+    return names;
+}
+
+bool isAncestorOrSelf(int ancestor, int node) {
+    while (node > ancestor) node = (node - 1) / 2;
+    return node == ancestor;
+}
+
+int lowestCommonAncestor(int a, int b) {
+    while (a != b) (a > b ? a : b) = ((a > b ? a : b) - 1) / 2;
+    return a;
+}
+
+struct HierarchyTruth {
+    std::uint64_t hitLeaves = 0;
+    TimeRange times = TimeRange::empty();
+    std::vector<TimeRange> leafTimes;
+};
+
+HierarchyTruth hierarchyTruth(const HierarchyCase& c) {
+    HierarchyTruth truth;
+    const PatchHierarchy& h = c.hierarchy;
+    for (int leaf = 0; leaf < h.leafCount(); ++leaf) {
+        const TileTruth t = exactTileTruth(verifierCamera(), c.lens, c.tile(),
+                                           h.node(PatchHierarchy::firstLeaf(h.depth()) + leaf));
+        truth.leafTimes.push_back(t.times);
+        if (!t.hit) continue;
+        truth.hitLeaves |= std::uint64_t(1) << leaf;
+        truth.times.extend(t.times);
     }
     return truth;
 }
 
-TileTestInput randomCase(const Camera& camera, bool defocus, std::mt19937_64& rng) {
-    std::uniform_real_distribution<float> unit(0.0f, 1.0f);
-    TileTestInput in;
-    in.camera = &camera;
-    if (defocus) in.lens = {0.05f + 0.5f * unit(rng), 2.0f + 8.0f * unit(rng)};
-    // A box around a point in view, of random size, moving by a random amount (sometimes along a
-    // plane, sometimes straight at the camera, sometimes not at all).
-    const float depth = 1.0f + 12.0f * unit(rng);
-    const Vec3 centre((unit(rng) - 0.5f) * depth, (unit(rng) - 0.5f) * depth, -depth);
-    const Vec3 half = Vec3(unit(rng), unit(rng), unit(rng)) * (0.02f + 0.5f * unit(rng));
-    Vec3 motion = (Vec3(unit(rng), unit(rng), unit(rng)) - 0.5f) * (3.0f * unit(rng));
-    const int kind = int(unit(rng) * 4.0f);
-    if (kind == 0) motion = Vec3(0);
-    if (kind == 1) motion = Vec3(0, 0, motion.z);
-    in.box.bounds0 = {centre - half, centre + half};
-    in.box.bounds1 = {centre - half + motion, centre + half + motion};
-    // A tile near where the box is seen at t=0.5.
-    Vec2 raster;
-    camera.cameraToRaster(centre + 0.5f * motion, raster);
-    const int size = 4 << int(unit(rng) * 3.0f);
-    const int x = int(std::floor(raster.x + (unit(rng) - 0.5f) * 48.0f));
-    const int y = int(std::floor(raster.y + (unit(rng) - 0.5f) * 48.0f));
-    in.tile = {x - x % 4, y - y % 4, x - x % 4 + size, y - y % 4 + size};
-    return in;
+CheckResult judgeTraversal(const HierarchyCase& c, const HierarchyTruth& truth,
+                           const TileTraversal& t) {
+    CheckResult r;
+    r.accept = t.overlaps;
+    r.times = t.overlaps ? t.times : TimeRange::empty();
+    if (truth.hitLeaves == 0) {
+        r.outcome = t.overlaps ? Outcome::FalseAccept : Outcome::TrueReject;
+        return r;
+    }
+    bool missed = (truth.hitLeaves & ~t.leafMask) != 0;
+    for (int leaf = 0; leaf < c.hierarchy.leafCount() && !missed; ++leaf)
+        if (truth.hitLeaves >> leaf & 1)
+            missed = t.times.lower > truth.leafTimes[std::size_t(leaf)].lower ||
+                     t.times.upper < truth.leafTimes[std::size_t(leaf)].upper;
+    r.outcome = missed ? Outcome::FalseReject : Outcome::TrueAccept;
+    if (!missed) r.excess = width(t.times) - width(truth.times);
+    return r;
+}
+
+// The branch node must lie above every leaf the truth hits; its excess is the levels above the
+// lowest such node.
+CheckResult judgeBranch(const HierarchyCase& c, const HierarchyTruth& truth, int branch) {
+    CheckResult r;
+    r.accept = true;
+    if (truth.hitLeaves == 0) return r;  // nothing to start from
+    const PatchHierarchy& h = c.hierarchy;
+    int lowest = -1;
+    bool missed = false;
+    for (int leaf = 0; leaf < h.leafCount(); ++leaf) {
+        if (!(truth.hitLeaves >> leaf & 1)) continue;
+        const int node = PatchHierarchy::firstLeaf(h.depth()) + leaf;
+        missed = missed || !isAncestorOrSelf(branch, node);
+        lowest = lowest < 0 ? node : lowestCommonAncestor(lowest, node);
+    }
+    r.outcome = missed ? Outcome::FalseReject : Outcome::TrueAccept;
+    if (!missed) r.excess = h.levelOf(lowest) - h.levelOf(branch);
+    return r;
+}
+
+CheckResult judgeBounds(const HierarchyCase& c, const HierarchyTruth& truth, int level) {
+    const Camera& camera = verifierCamera();
+    const TileGrid grid{camera.width(), camera.height(), c.tileSize};
+    const TileRange covered = tilesCovering(screenBounds(c.hierarchy, level, camera, c.lens), grid);
+    CheckResult r;
+    r.accept = c.tileX >= covered.x0 && c.tileX < covered.x1 && c.tileY >= covered.y0 &&
+               c.tileY < covered.y1;
+    if (truth.hitLeaves == 0)
+        r.outcome = r.accept ? Outcome::FalseAccept : Outcome::TrueReject;
+    else
+        r.outcome = r.accept ? Outcome::TrueAccept : Outcome::FalseReject;
+    return r;
+}
+
+std::vector<CheckResult> hierarchyChecks(const HierarchyCase& c, const HierarchyTruth& truth) {
+    std::vector<CheckResult> results;
+    const Camera& camera = verifierCamera();
+    TileTraversal cameraSpace;
+    for (BoundsSpace s : kSpaces) {
+        RasterWork work;
+        SpaceNodes nodes;
+        nodes.build(c.hierarchy, s, camera, c.lens, work);
+        const TileTraversal t = traverseTile(
+            c.hierarchy, nodes, {&camera, c.lens, c.tile(), camera.farPlane()}, true, true, work);
+        if (s == BoundsSpace::Camera3D) cameraSpace = t;
+        results.push_back(judgeTraversal(c, truth, t));
+    }
+    for (BranchMethod m : kBranchMethods)
+        results.push_back(judgeBranch(
+            c, truth, cameraSpace.overlaps ? branchNode(m, cameraSpace, c.hierarchy.depth()) : 0));
+    for (int l = 0; l < kBoundsLevels; ++l) results.push_back(judgeBounds(c, truth, l));
+    return results;
+}
+
+// ---- The run ----
+
+void tally(TileTestReport& report, const CheckResult& r, CaseModel model, std::int64_t number) {
+    ++report.cases;
+    switch (r.outcome) {
+        case Outcome::TrueAccept:
+            ++report.trueHits;
+            break;
+        case Outcome::FalseReject:
+            ++report.trueHits;
+            ++report.falseRejects;
+            if (report.firstFailure.empty()) report.firstFailure = caseName(model, number);
+            break;
+        case Outcome::FalseAccept:
+            ++report.trueMisses;
+            ++report.falseAccepts;
+            break;
+        case Outcome::TrueReject:
+            ++report.trueMisses;
+            break;
+    }
+    if (r.excess >= 0) report.excess.add(r.excess);
+}
+
+void csvRow(std::ostream& out, CaseModel model, std::int64_t number, const std::string& kind,
+            const std::string& check, bool truthHit, const TimeRange& truthTimes,
+            const CheckResult& r) {
+    char line[320];
+    std::snprintf(line, sizeof line, "%s,%lld,%s,%s,%d,%.7g,%.7g,%d,%.7g,%.7g,%s,%.7g\n",
+                  caseModelName(model), static_cast<long long>(number), kind.c_str(), check.c_str(),
+                  int(truthHit), truthHit ? double(truthTimes.lower) : 0.0,
+                  truthHit ? double(truthTimes.upper) : 0.0, int(r.accept),
+                  r.accept ? double(r.times.lower) : 0.0, r.accept ? double(r.times.upper) : 0.0,
+                  outcomeName(r.outcome), std::max(0.0, r.excess));
+    out << line;
+}
+
+// The reports of one chunk of cases of one model (merged in chunk order afterwards).
+struct Chunk {
+    std::vector<TileTestReport> reports;
+    std::int64_t witnessCases = 0, witnessHits = 0, witnessOutsideTruth = 0;
+    std::string csv;
+};
+
+TileTestReport emptyReport(const std::string& name, CaseModel model) {
+    TileTestReport r;
+    r.name = name;
+    r.model = model;
+    return r;
+}
+
+std::vector<TileTestReport> emptyReports(CaseModel model) {
+    std::vector<TileTestReport> reports;
+    if (model == CaseModel::Hierarchy) {
+        for (const std::string& name : hierarchyCheckNames()) {
+            reports.push_back(emptyReport(name, model));
+            if (name.rfind("branch-", 0) == 0) {
+                reports.back().excess.binWidth = 1.0;
+                reports.back().excessUnit = "levels";
+            }
+        }
+        return reports;
+    }
+    for (const auto& v : registeredTileTests())
+        if (model == CaseModel::Lens ? v->handlesLens() : v->handlesPinhole())
+            reports.push_back(emptyReport(v->name(), model));
+    return reports;
+}
+
+void runBoxCases(const TileVerifierOptions& o, CaseModel model, std::int64_t begin,
+                 std::int64_t end, Chunk& chunk) {
+    std::vector<const TileTestVariant*> variants;
+    for (const auto& v : registeredTileTests())
+        if (model == CaseModel::Lens ? v->handlesLens() : v->handlesPinhole())
+            variants.push_back(v.get());
+    for (std::int64_t n = begin; n < end; ++n) {
+        const BoxCase c = makeBoxCase(o.seed, model, n);
+        const bool witnessed = o.witnessEvery > 0 && n % o.witnessEvery == 0;
+        const CaseTruth truth = boxTruth(c.input, witnessed, chunk.witnessOutsideTruth);
+        chunk.witnessCases += witnessed;
+        chunk.witnessHits += std::int64_t(truth.witness.size());
+        for (std::size_t v = 0; v < variants.size(); ++v) {
+            const CheckResult r = judgeBoxVariant(*variants[v], c.input, truth);
+            tally(chunk.reports[v], r, model, n);
+            if (o.csv) {
+                std::ostringstream row;
+                csvRow(row, model, n, boxCaseKindName(c.kind), variants[v]->name(), truth.exact.hit,
+                       truth.exact.times, r);
+                chunk.csv += row.str();
+            }
+        }
+    }
+}
+
+void runHierarchyCases(const TileVerifierOptions& o, std::int64_t begin, std::int64_t end,
+                       Chunk& chunk) {
+    const std::vector<std::string> names = hierarchyCheckNames();
+    HierarchyCase c;
+    for (std::int64_t n = begin; n < end; ++n) {
+        makeHierarchyCase(o.seed, n, c);
+        const HierarchyTruth truth = hierarchyTruth(c);
+        const std::vector<CheckResult> results = hierarchyChecks(c, truth);
+        for (std::size_t k = 0; k < results.size(); ++k) {
+            tally(chunk.reports[k], results[k], CaseModel::Hierarchy, n);
+            if (o.csv) {
+                std::ostringstream row;
+                csvRow(row, CaseModel::Hierarchy, n, c.lens.radius > 0 ? "lens" : "pinhole",
+                       names[k], truth.hitLeaves != 0, truth.times, results[k]);
+                chunk.csv += row.str();
+            }
+        }
+    }
+}
+
+void mergeChunk(TileVerifierResult& result, std::size_t offset, const Chunk& chunk) {
+    for (std::size_t k = 0; k < chunk.reports.size(); ++k) {
+        TileTestReport& into = result.reports[offset + k];
+        const TileTestReport& from = chunk.reports[k];
+        into.cases += from.cases;
+        into.trueHits += from.trueHits;
+        into.trueMisses += from.trueMisses;
+        into.falseRejects += from.falseRejects;
+        into.falseAccepts += from.falseAccepts;
+        into.excess.merge(from.excess);
+        if (into.firstFailure.empty()) into.firstFailure = from.firstFailure;
+    }
+    result.witnessCases += chunk.witnessCases;
+    result.witnessHits += chunk.witnessHits;
+    result.witnessOutsideTruth += chunk.witnessOutsideTruth;
 }
 
 }  // namespace
 
-std::vector<TileTestReport> verifyTileTests(int cases, std::uint64_t seed) {
-    CameraDesc desc;
-    desc.open = {{0, 0, 0}, {0, 0, -1}, {0, 1, 0}};
-    desc.close = desc.open;
-    desc.fovYDegrees = 60.0f;
-    desc.nearPlane = 0.1f;
-    desc.farPlane = 100.0f;
-    const Camera camera(desc, {}, 128, 128);
-    std::vector<TileTestReport> reports;
-    for (const auto& variant : registeredTileTests()) reports.push_back({variant->name()});
-    for (int defocus = 0; defocus < 2; ++defocus) {
-        std::mt19937_64 rng(mix64(seed + std::uint64_t(defocus)));
-        for (int c = 0; c < cases; ++c) {
-            const TileTestInput in = randomCase(camera, defocus != 0, rng);
-            const Truth truth = groundTruth(in);
-            for (std::size_t v = 0; v < reports.size(); ++v) {
-                const TileTestVariant& variant = *registeredTileTests()[v];
-                if ((defocus != 0) != variant.handlesDefocus()) continue;
-                const TileTestOutput out = variant.run(in);
-                TileTestReport& r = reports[v];
-                ++r.cases;
-                if (!truth.hit) {
-                    out.accept ? ++r.falseAccepts : ++r.trueRejects;
-                    continue;
-                }
-                const bool timesCovered =
-                    std::all_of(truth.hitTimes.begin(), truth.hitTimes.end(),
-                                [&](float t) { return out.times.contains(t); });
-                if (!out.accept || !timesCovered) ++r.falseRejects;
+TileVerifierResult verifyTileTests(const TileVerifierOptions& o) {
+    constexpr std::int64_t kChunk = 2048;
+    const int threads = resolveThreadCount(o.threads);
+    TileVerifierResult result;
+    if (o.csv)
+        *o.csv << "model,case,kind,variant,truth_hit,true_tmin,true_tmax,accept,tmin,tmax,"
+                  "outcome,excess\n";
+    for (CaseModel model : {CaseModel::Pinhole, CaseModel::Lens, CaseModel::Hierarchy}) {
+        const std::size_t offset = result.reports.size();
+        for (TileTestReport& r : emptyReports(model)) result.reports.push_back(std::move(r));
+        const std::int64_t chunks = (o.cases + kChunk - 1) / kChunk;
+        // Batches of chunks keep the CSV text in memory small and its rows in case order.
+        const std::int64_t batch = std::int64_t(threads) * 8;
+        for (std::int64_t first = 0; first < chunks; first += batch) {
+            std::vector<Chunk> work(std::size_t(std::min(batch, chunks - first)));
+            parallelFor(work.size(), threads, [&](int, std::size_t i) {
+                const std::int64_t begin = (first + std::int64_t(i)) * kChunk;
+                const std::int64_t end = std::min(o.cases, begin + kChunk);
+                work[i].reports = emptyReports(model);
+                if (model == CaseModel::Hierarchy)
+                    runHierarchyCases(o, begin, end, work[i]);
+                else
+                    runBoxCases(o, model, begin, end, work[i]);
+            });
+            for (const Chunk& chunk : work) {
+                mergeChunk(result, offset, chunk);
+                if (o.csv) *o.csv << chunk.csv;
             }
         }
     }
-    return reports;
+    return result;
+}
+
+bool replayTileCase(const std::string& name, std::uint64_t seed, std::ostream& out) {
+    CaseModel model;
+    std::int64_t number;
+    if (!parseCaseName(name, model, number)) return false;
+    out << "case " << name << " (seed " << seed << ")\n";
+    char line[256];
+    if (model == CaseModel::Hierarchy) {
+        HierarchyCase c;
+        makeHierarchyCase(seed, number, c);
+        printHierarchyCase(c, out);
+        const HierarchyTruth truth = hierarchyTruth(c);
+        std::snprintf(line, sizeof line, "truth: leaves hit 0x%llx, times [%.9g, %.9g]\n",
+                      static_cast<unsigned long long>(truth.hitLeaves), double(truth.times.lower),
+                      double(truth.times.upper));
+        out << line;
+        const std::vector<std::string> names = hierarchyCheckNames();
+        const std::vector<CheckResult> results = hierarchyChecks(c, truth);
+        for (std::size_t k = 0; k < results.size(); ++k) {
+            std::snprintf(line, sizeof line, "%s: %s, accept %d, times [%.9g, %.9g]\n",
+                          names[k].c_str(), outcomeName(results[k].outcome), int(results[k].accept),
+                          double(results[k].times.lower), double(results[k].times.upper));
+            out << line;
+        }
+        return true;
+    }
+    const BoxCase c = makeBoxCase(seed, model, number);
+    printBoxCase(c, out);
+    std::int64_t outside = 0;
+    const CaseTruth truth = boxTruth(c.input, true, outside);
+    std::snprintf(line, sizeof line,
+                  "truth: hit %d, times [%.9g, %.9g]; witness: %zu sampled hits, %lld outside\n",
+                  int(truth.exact.hit), double(truth.exact.times.lower),
+                  double(truth.exact.times.upper), truth.witness.size(),
+                  static_cast<long long>(outside));
+    out << line;
+    for (const auto& v : registeredTileTests()) {
+        if (!(model == CaseModel::Lens ? v->handlesLens() : v->handlesPinhole())) continue;
+        const TileTestOutput o = v->run(c.input);
+        const CheckResult r = judgeBoxVariant(*v, c.input, truth);
+        std::snprintf(line, sizeof line,
+                      "%s: %s, accept %d, times [%.9g, %.9g], lens u [%.6g, %.6g] v [%.6g, %.6g]\n",
+                      v->name().c_str(), outcomeName(r.outcome), int(o.accept),
+                      double(o.times.lower), double(o.times.upper), double(o.lens.u0),
+                      double(o.lens.u1), double(o.lens.v0), double(o.lens.v1));
+        out << line;
+    }
+    return true;
 }
 
 }  // namespace patchsim

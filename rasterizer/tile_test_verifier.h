@@ -1,16 +1,31 @@
 #pragma once
-// Verifies tile tests against ground truth (docs/TILE_TESTS.md).
+// Verifies tile tests against exact ground truth (docs/TILE_TESTS.md).
 //
-// A case is a random linearly moving box, a random tile and (for defocus variants) a random thin
-// lens. Ground truth comes from dense sampling: rays through a grid of points on the tile (edges
-// included), from a grid of lens points (extremes included), at a grid of times (0 and 1
-// included), each tested exactly (in double precision) against the box blended to its time. A
-// sampled hit proves the tile overlaps the box at that time, so a variant that rejects it, or whose
-// time interval excludes that time, made a false reject. A variant that accepts a case where no
-// sample hit made a false accept (a measure of tightness; sampling may miss a sliver of overlap,
-// so false accepts are an upper bound).
+// A box case is a random linearly moving box (sometimes still, sometimes moving only in depth,
+// sometimes still in the world but seen from a moving camera), a random tile near where it is
+// seen, and for lens cases a random thin lens. Ground truth is exact (tile_test_truth): the hull
+// of the times at which some ray through the tile, from anywhere on the square that holds the
+// lens, meets the box. A variant that rejects a case the truth hits, or whose time interval or
+// lens rectangle leaves out a time or lens point that hits, made a false reject; a variant that
+// accepts a case the truth misses made a false accept, counted over the true misses. Accepted
+// hits add their time-interval excess (width beyond the true interval) to a distribution. A
+// sampled witness on every Nth case checks the exact truth itself.
+//
+// A hierarchy case is a random moving triangle sheet with its hierarchy, and a tile: each bounds
+// space's traversal must keep every leaf the truth hits and cover its times, each branch method's
+// node must lie above all those leaves, and each level's screen bounds must cover the tile.
+//
+// Representation
+// --------------
+// Variants are objects behind a small interface, registered once (the built-ins by the
+// registry itself, user variants with PATCHSIM_REGISTER_TILE_TEST); each case runs every variant,
+// so the per-case cost is one exact truth and a virtual call per variant. Cases are numbered per
+// model and made from (seed, model, number) alone, so any case can be replayed by its name
+// ("lens:1234") and the report does not depend on the thread count.
 
+#include <array>
 #include <cstdint>
+#include <iosfwd>
 #include <memory>
 #include <string>
 #include <vector>
@@ -19,7 +34,8 @@
 #include "pipeline/core/lbbox.h"
 #include "pipeline/core/ray.h"
 #include "pipeline/core/time_range.h"
-#include "rasterizer/tile_frustum.h"
+#include "rasterizer/tile_grid.h"
+#include "rasterizer/tile_test_truth.h"
 
 namespace patchsim {
 
@@ -27,26 +43,28 @@ struct TileTestInput {
     const Camera* camera;
     LensModel lens;  // radius 0 for pinhole cases
     TileRect tile;
-    LBBox box;
+    LBBox box;  // camera space
 };
 
 struct TileTestOutput {
     bool accept = true;
     TimeRange times = TimeRange::shutter();  // when the box may overlap the tile (if accepted)
+    LensRect lens = LensRect::whole();       // where on the lens (units of its radius)
 };
 
-// A tile test under verification. Variants register themselves with
-// PATCHSIM_REGISTER_TILE_TEST; the verifier runs every registered variant.
+// A tile test under verification.
 class TileTestVariant {
   public:
     virtual ~TileTestVariant() = default;
     virtual std::string name() const = 0;
-    virtual bool handlesDefocus() const = 0;  // false: pinhole cases only
+    virtual bool handlesPinhole() const { return true; }
+    virtual bool handlesLens() const { return true; }
     virtual TileTestOutput run(const TileTestInput& input) const = 0;
 };
 
 void registerTileTest(std::unique_ptr<TileTestVariant> variant);
 void unregisterTileTest(const std::string& name);
+const std::vector<std::unique_ptr<TileTestVariant>>& registeredTileTests();
 
 // Registered for the lifetime of this object (e.g. a deliberately broken variant in a test).
 class ScopedTileTest {
@@ -61,18 +79,60 @@ class ScopedTileTest {
   private:
     std::string name_;
 };
-const std::vector<std::unique_ptr<TileTestVariant>>& registeredTileTests();
+
+// The built-in variants, added to the registry on its first use (patent variants in
+// tile_test_variants.cpp, the literature's in tile_test_literature.cpp).
+void addPatentTileTests(std::vector<std::unique_ptr<TileTestVariant>>& out);
+void addLiteratureTileTests(std::vector<std::unique_ptr<TileTestVariant>>& out);
+
+enum class CaseModel : std::uint8_t { Pinhole, Lens, Hierarchy };
+const char* caseModelName(CaseModel model);
+
+// Excess beyond the truth (time-interval width in shutter fractions, or branch-node levels) in
+// 1000 bins of `binWidth`.
+struct ExcessHistogram {
+    static constexpr int kBins = 1000;
+    double binWidth = 0.001;
+    std::array<std::int64_t, kBins + 1> bins{};  // the last holds everything beyond
+    std::int64_t count = 0;
+    void add(double excess);
+    void merge(const ExcessHistogram& o);
+    double quantile(double q) const;  // its bin's lower edge; 0 when empty
+};
 
 struct TileTestReport {
     std::string name;
-    std::int64_t cases = 0, falseRejects = 0, falseAccepts = 0, trueRejects = 0;
-    double falseAcceptPercent() const {
-        return cases ? 100.0 * double(falseAccepts) / double(cases) : 0.0;
+    CaseModel model = CaseModel::Pinhole;
+    std::int64_t cases = 0, trueHits = 0, trueMisses = 0;
+    std::int64_t falseRejects = 0, falseAccepts = 0;
+    ExcessHistogram excess;
+    const char* excessUnit = "shutter";  // "shutter" (time interval) or "levels" (branch node)
+    std::string firstFailure;            // the first falsely rejected case ("lens:1234"), if any
+    double falseAcceptPercent() const {  // of the true misses
+        return trueMisses ? 100.0 * double(falseAccepts) / double(trueMisses) : 0.0;
     }
 };
 
-// Runs `cases` pinhole cases and `cases` defocus cases (for variants that handle defocus).
-std::vector<TileTestReport> verifyTileTests(int cases, std::uint64_t seed);
+struct TileVerifierOptions {
+    std::int64_t cases = 2000;  // per model
+    std::uint64_t seed = 1;
+    int threads = 0;
+    int witnessEvery = 64;        // a sampled witness on every Nth case (0: none)
+    std::ostream* csv = nullptr;  // one row per case and variant, when set
+};
+
+struct TileVerifierResult {
+    std::vector<TileTestReport> reports;
+    std::int64_t witnessCases = 0, witnessHits = 0;
+    std::int64_t witnessOutsideTruth = 0;  // sampled hits the exact truth misses: must be 0
+    bool anyFalseReject() const;
+};
+
+TileVerifierResult verifyTileTests(const TileVerifierOptions& options);
+
+// Everything about one case ("pinhole:17", "lens:3", "hierarchy:9"): inputs in hexadecimal
+// floats, the truth, and every variant's answer. False when the name is not a case.
+bool replayTileCase(const std::string& name, std::uint64_t seed, std::ostream& out);
 
 }  // namespace patchsim
 

@@ -265,14 +265,45 @@ TEST(Cli, RenderRejectsBadRasterizerOptions) {
 }
 
 TEST(Cli, VerifyTilesReportsEveryVariantWithoutFalseRejects) {
-    const CommandResult r = run("verify-tiles --cases 300");
+    const std::string dir = patchsim::test::temporaryDirectory() + "/verify";
+    fs::create_directories(dir);
+    const CommandResult r = run("verify-tiles --cases 300 --csv " + dir + "/cases.csv --summary " +
+                                dir + "/summary.csv");
     EXPECT_EQ(r.exitCode, 0) << r.output;
-    for (const char* variant : {"pinhole-n-vertex:", "pinhole-n-vertex-time-interval:",
-                                "lens-two-plane:", "lens-two-plane-time-interval:"})
+    for (const char* variant :
+         {"patent-3d (pinhole):", "patent-3d-time (lens):", "patent-2dh-time (lens):",
+          "patent-2d-time (pinhole):", "triangle-bbox (lens):", "interval-4 (pinhole):",
+          "dual-space (lens):", "traversal-2d (hierarchy):", "branch-bitmask (hierarchy):",
+          "bounds-level-0 (hierarchy):"})
         EXPECT_NE(
             r.output.find(std::string(variant) + " cases 300, false rejects 0, false accepts"),
             std::string::npos)
+            << variant << "\n"
             << r.output;
+    EXPECT_NE(r.output.find(" outside the exact truth"), std::string::npos) << r.output;
+    std::ifstream summary(dir + "/summary.csv"), cases(dir + "/cases.csv");
+    std::string header, line;
+    std::getline(summary, header);
+    EXPECT_EQ(header.rfind("variant,model,cases,", 0), 0u) << header;
+    int rows = 0;
+    while (std::getline(summary, line)) ++rows;
+    EXPECT_GE(rows, 30);
+    std::getline(cases, header);
+    EXPECT_EQ(header.rfind("model,case,kind,variant,truth_hit", 0), 0u) << header;
+    std::getline(cases, line);
+    EXPECT_EQ(line.rfind("pinhole,0,", 0), 0u) << line;
+}
+
+TEST(Cli, VerifyTilesReplaysACaseAndRefusesABadName) {
+    CommandResult r = run("verify-tiles --seed 3 --replay pinhole:12");
+    EXPECT_EQ(r.exitCode, 0) << r.output;
+    EXPECT_NE(r.output.find("case pinhole:12 (seed 3)"), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("patent-2d-time:"), std::string::npos) << r.output;
+    r = run("verify-tiles --replay lens:twelve");
+    EXPECT_EQ(r.exitCode, 2) << r.output;
+    EXPECT_NE(r.output.find("--replay"), std::string::npos) << r.output;
+    r = run("verify-tiles --cases 0");
+    EXPECT_EQ(r.exitCode, 2) << r.output;
 }
 
 TEST(Cli, RenderWritesHeatMapsAndUsesTheBackEndOptions) {

@@ -52,6 +52,24 @@ TEST(Explore, GridCrossProductAndRows) {
     }
 }
 
+// The patent's bounds spaces and the patch merge are grid axes like any rasterizer option, and
+// every point of them renders.
+TEST(Explore, BoundsSpacesAndMergingAreGridAxes) {
+    const ExploreGrid grid = parseExploreGrid(
+        R"({"rasterizer": {"bounds_space": ["3d", "2dh", "2d"], "merge_triangles_below": [0, 64]},
+            "film": {"width": 24, "height": 16, "spp": 2}})",
+        "grid.json");
+    ASSERT_EQ(grid.rasterAxes.size(), 2u);
+    EXPECT_EQ(grid.rasterAxes[0].values, (std::vector<std::string>{"3d", "2dh", "2d"}));
+    const std::vector<ExploreJob> jobs = exploreJobs(1, grid);
+    ASSERT_EQ(jobs.size(), 6u);
+    const std::vector<SceneDesc> scenes = {readSceneFile(test::sourcePath("scenes/motion.json"))};
+    const std::vector<ExploreRow> rows =
+        runExploreJob(scenes, grid, defaultHardwareConfig(), jobs.size() - 1, 1);
+    ASSERT_EQ(rows.size(), 1u);
+    EXPECT_NE(rows[0].csv.find(",2d,64,"), std::string::npos) << rows[0].csv;
+}
+
 TEST(Explore, GridErrorsNameTheField) {
     EXPECT_NE(errorOf(R"({"rasterizer": {"tile_size": []}})")
                   .find("rasterizer.tile_size: expected a non-empty array"),
@@ -61,6 +79,9 @@ TEST(Explore, GridErrorsNameTheField) {
         std::string::npos);
     EXPECT_NE(errorOf(R"({"rasterizer": {"branch_method": ["sideways"]}})")
                   .find("rasterizer.branch_method"),
+              std::string::npos);
+    EXPECT_NE(errorOf(R"({"rasterizer": {"bounds_space": ["3d", "4d"]}})")
+                  .find("rasterizer.bounds_space"),
               std::string::npos);
     EXPECT_NE(errorOf(R"({"hardware": {"RS.wheels": [1]}})").find("RS.wheels"), std::string::npos);
     EXPECT_NE(errorOf(R"({"hardware": {"RS.units": ["many"]}})")

@@ -79,11 +79,58 @@ TEST(PatchRasterizer, EveryOptionGivesTheReferenceVisibility) {
     o = {};
     o.maxTrianglesPerGroup = 16;
     variants.push_back({"groups of 16", o});
+    for (BoundsSpace space : {BoundsSpace::Homogeneous2D, BoundsSpace::Screen2D}) {
+        for (bool refine : {true, false}) {
+            o = {};
+            o.boundsSpace = space;
+            o.timeRefinement = refine;
+            variants.push_back(
+                {std::string(boundsSpaceName(space)) + (refine ? "" : " spatial"), o});
+        }
+    }
+    o = {};
+    o.mergeTrianglesBelow = 64;
+    variants.push_back({"merged below 64", o});
     for (const auto& [name, options] : variants) {
         SceneDesc scene = base;
         scene.rasterizer = options;
         const RenderResult patch = renderWith(scene, VisibilityMethod::Patch);
         EXPECT_EQ(compare(patch, reference).mismatches, 0u) << name;
+    }
+}
+
+std::int64_t counted(const char* name) {
+    return CounterRegistry::instance().snapshot().byName(name);
+}
+
+// Merging small patches: fewer hierarchies, the same samples; bounds spaces: the same samples,
+// and 2D converts every node while 3D converts none.
+TEST(PatchRasterizer, MergedPatchesAndEveryBoundsSpaceGiveTheSameSamples) {
+    SceneDesc scene = smallScene(readSceneFile(test::sourcePath("scenes/motion_defocus.json")));
+    scene.tessellation.targetEdgePixels = 0;  // small patches: factor 2
+    scene.tessellation.factor = 2.0f;
+    const RenderResult reference = renderWith(scene, VisibilityMethod::Reference);
+    CounterRegistry::instance().reset();
+    const RenderResult alone = renderWith(scene, VisibilityMethod::Patch);
+    const std::int64_t groupsAlone = counted("RS/Groups");
+    EXPECT_EQ(counted("RS/Patches merged"), 0);
+    EXPECT_EQ(counted("RS/Nodes converted"), 0);
+    for (int below : {16, 64, 256}) {
+        scene.rasterizer.mergeTrianglesBelow = below;
+        CounterRegistry::instance().reset();
+        const RenderResult merged = renderWith(scene, VisibilityMethod::Patch, 2);
+        EXPECT_EQ(compare(merged, reference).mismatches, 0u) << below;
+        EXPECT_GT(counted("RS/Patches merged"), 0) << below;
+        EXPECT_LT(counted("RS/Groups"), groupsAlone) << below;
+        EXPECT_EQ(counted("RS/Patches"), std::int64_t(alone.patches)) << below;
+    }
+    scene.rasterizer.mergeTrianglesBelow = 0;
+    for (BoundsSpace space : {BoundsSpace::Homogeneous2D, BoundsSpace::Screen2D}) {
+        scene.rasterizer.boundsSpace = space;
+        CounterRegistry::instance().reset();
+        const RenderResult r = renderWith(scene, VisibilityMethod::Patch);
+        EXPECT_EQ(compare(r, reference).mismatches, 0u) << boundsSpaceName(space);
+        EXPECT_EQ(counted("RS/Nodes converted"), counted("RS/Nodes built"));
     }
 }
 
@@ -108,6 +155,7 @@ TEST(PatchRasterizer, MatchesTheReferenceOnRandomMovingDefocusedPatches) {
         torus.close.translate = torus.open.translate + 1.5f * Vec3(u(rng), u(rng), 2.0f * u(rng));
         torus.close.rotateDegrees = torus.open.rotateDegrees + 40.0f * Vec3(u(rng), u(rng), u(rng));
         scene.objects.push_back(torus);
+        scene.rasterizer.boundsSpace = BoundsSpace(trial % 3);
         const RenderResult patch = renderWith(scene, VisibilityMethod::Patch);
         const RenderResult reference = renderWith(scene, VisibilityMethod::Reference);
         const Comparison c = compare(patch, reference);

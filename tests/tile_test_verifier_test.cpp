@@ -2,43 +2,155 @@
 
 #include <gtest/gtest.h>
 
+#include <set>
+#include <sstream>
+
+#include "rasterizer/tile_test_cases.h"
+
 namespace patchsim {
 namespace {
 
-TEST(TileTestVerifier, BuiltInTestsNeverRejectFalselyAndAreTight) {
-    const std::vector<TileTestReport> reports = verifyTileTests(1500, 42);
-    ASSERT_GE(reports.size(), 4u);
-    for (const TileTestReport& r : reports) {
-        EXPECT_EQ(r.cases, 1500) << r.name;
-        EXPECT_EQ(r.falseRejects, 0) << r.name;
+TileVerifierResult verify(std::int64_t cases, std::uint64_t seed) {
+    TileVerifierOptions o;
+    o.cases = cases;
+    o.seed = seed;
+    o.witnessEvery = 8;
+    return verifyTileTests(o);
+}
+
+TEST(TileTestVerifier, EveryVariantAndCheckIsListedAndNeverRejectsFalsely) {
+    const TileVerifierResult result = verify(3000, 42);
+    std::set<std::string> names;
+    for (const TileTestReport& r : result.reports) {
+        names.insert(r.name);
+        EXPECT_EQ(r.cases, 3000) << r.name;
+        EXPECT_EQ(r.falseRejects, 0)
+            << r.name << " " << caseModelName(r.model) << " " << r.firstFailure;
         // The cases mix overlapping and missing boxes; a test that accepts everything is useless.
-        EXPECT_GT(r.trueRejects, 100) << r.name;
+        if (r.name.rfind("branch-", 0) != 0) {
+            EXPECT_GT(r.trueMisses - r.falseAccepts, 100) << r.name;
+        }
+        EXPECT_GT(r.trueHits, 300) << r.name;
     }
+    for (const char* name :
+         {"patent-3d", "patent-3d-time", "patent-2dh", "patent-2dh-time", "patent-2d",
+          "patent-2d-time", "triangle-bbox", "interval-4", "interval-16", "dual-space",
+          "traversal-3d", "traversal-2dh", "traversal-2d", "branch-root", "branch-first-split",
+          "branch-bitmask", "bounds-level-0", "bounds-level-3"})
+        EXPECT_TRUE(names.count(name)) << name;
+    // The sampled witness found hits, and every one lies inside the exact truth.
+    EXPECT_GT(result.witnessHits, 1000);
+    EXPECT_EQ(result.witnessOutsideTruth, 0);
+    EXPECT_FALSE(result.anyFalseReject());
+}
+
+const TileTestReport& find(const TileVerifierResult& r, const std::string& name, CaseModel m) {
+    for (const TileTestReport& report : r.reports)
+        if (report.name == name && report.model == m) return report;
+    throw std::runtime_error("no report " + name);
+}
+
+// What the literature and the patent lead one to expect, as orderings on the same cases.
+TEST(TileTestVerifier, TighterTestsAcceptFewerMissesAndNarrowerTimes) {
+    const TileVerifierResult r = verify(4000, 7);
+    for (CaseModel m : {CaseModel::Pinhole, CaseModel::Lens}) {
+        const auto& bbox = find(r, "triangle-bbox", m);
+        const auto& interval = find(r, "interval-16", m);
+        const auto& patent = find(r, "patent-3d-time", m);
+        const auto& spatial = find(r, "patent-3d", m);
+        EXPECT_LT(interval.falseAccepts, bbox.falseAccepts) << caseModelName(m);
+        EXPECT_LT(patent.falseAccepts, spatial.falseAccepts) << caseModelName(m);
+        // Time refinement narrows the interval; the bounding box keeps the whole shutter.
+        EXPECT_LT(patent.excess.quantile(0.95), bbox.excess.quantile(0.95)) << caseModelName(m);
+        // 2DH is 3D in clip coordinates: the same answers.
+        EXPECT_EQ(find(r, "patent-2dh-time", m).falseAccepts, patent.falseAccepts);
+    }
+    // The bitmask finds the lowest node above the overlapping leaves; the root is never lower.
+    const auto& root = find(r, "branch-root", CaseModel::Hierarchy);
+    const auto& bitmask = find(r, "branch-bitmask", CaseModel::Hierarchy);
+    EXPECT_LT(bitmask.excess.quantile(0.95), root.excess.quantile(0.95));
+    EXPECT_EQ(bitmask.excess.quantile(0.5), 0.0);
+}
+
+TEST(TileTestVerifier, ResultsDoNotDependOnTheThreadCount) {
+    TileVerifierOptions o;
+    o.cases = 5000;
+    o.seed = 5;
+    std::ostringstream one, two;
+    o.threads = 1;
+    o.csv = &one;
+    verifyTileTests(o);
+    o.threads = 2;
+    o.csv = &two;
+    verifyTileTests(o);
+    EXPECT_EQ(one.str(), two.str());
+    EXPECT_GT(one.str().size(), 100000u);
+}
+
+TEST(TileTestVerifier, ReplayPrintsTheCaseAndEveryAnswer) {
+    std::ostringstream out;
+    ASSERT_TRUE(replayTileCase("lens:17", 1, out));
+    const std::string text = out.str();
+    for (const char* part :
+         {"case lens:17", "box at t=0", "truth: hit", "patent-3d-time:", "dual-space:", "lens u ["})
+        EXPECT_NE(text.find(part), std::string::npos) << part << "\n" << text;
+    std::ostringstream h;
+    ASSERT_TRUE(replayTileCase("hierarchy:3", 1, h));
+    EXPECT_NE(h.str().find("branch-bitmask:"), std::string::npos) << h.str();
+    std::ostringstream bad;
+    EXPECT_FALSE(replayTileCase("lens:x", 1, bad));
+    EXPECT_FALSE(replayTileCase("fisheye:3", 1, bad));
 }
 
 // A deliberately broken variant: the verifier must catch it.
 class AlwaysReject : public TileTestVariant {
   public:
     std::string name() const override { return "always-reject"; }
-    bool handlesDefocus() const override { return false; }
-    TileTestOutput run(const TileTestInput&) const override { return {false, {}}; }
+    bool handlesLens() const override { return false; }
+    TileTestOutput run(const TileTestInput&) const override { return {false}; }
 };
 
-TEST(TileTestVerifier, CatchesATestThatRejectsOverlaps) {
+// Another: right in space but its time interval stops early.
+class ShortTimes : public TileTestVariant {
+  public:
+    std::string name() const override { return "short-times"; }
+    TileTestOutput run(const TileTestInput&) const override {
+        TileTestOutput out;
+        out.times = {0.0f, 0.9f};
+        return out;
+    }
+};
+
+TEST(TileTestVerifier, CatchesTestsThatRejectOverlapsOrCutTheirTimes) {
     const std::size_t before = registeredTileTests().size();
     {
         const ScopedTileTest broken(std::make_unique<AlwaysReject>());
-        const std::vector<TileTestReport> reports = verifyTileTests(200, 3);
-        bool found = false;
-        for (const TileTestReport& r : reports) {
-            if (r.name != "always-reject") continue;
-            found = true;
-            EXPECT_GT(r.falseRejects, 0);
-        }
-        EXPECT_TRUE(found);
+        const ScopedTileTest shortTimes(std::make_unique<ShortTimes>());
+        const TileVerifierResult r = verify(400, 3);
+        EXPECT_GT(find(r, "always-reject", CaseModel::Pinhole).falseRejects, 0);
+        EXPECT_FALSE(find(r, "always-reject", CaseModel::Pinhole).firstFailure.empty());
+        EXPECT_GT(find(r, "short-times", CaseModel::Lens).falseRejects, 0);
+        for (const TileTestReport& report : r.reports)
+            EXPECT_FALSE(report.name == "always-reject" && report.model == CaseModel::Lens);
+        EXPECT_TRUE(r.anyFalseReject());
     }
     // Gone again: the tests after this one see only the real variants.
     EXPECT_EQ(registeredTileTests().size(), before);
+}
+
+TEST(TileTestCases, NamesRoundTripAndCasesAreReproducible) {
+    CaseModel m;
+    std::int64_t n;
+    ASSERT_TRUE(parseCaseName("hierarchy:123", m, n));
+    EXPECT_EQ(m, CaseModel::Hierarchy);
+    EXPECT_EQ(n, 123);
+    EXPECT_EQ(caseName(CaseModel::Lens, 9), "lens:9");
+    const BoxCase a = makeBoxCase(1, CaseModel::Lens, 77), b = makeBoxCase(1, CaseModel::Lens, 77);
+    EXPECT_EQ(a.input.box.bounds1.upper, b.input.box.bounds1.upper);
+    EXPECT_GT(a.input.lens.radius, 0.0f);
+    std::set<int> kinds;
+    for (int i = 0; i < 200; ++i) kinds.insert(int(makeBoxCase(1, CaseModel::Pinhole, i).kind));
+    EXPECT_EQ(kinds.size(), 4u);  // still, depth-only, moving, camera motion
 }
 
 }  // namespace

@@ -3,6 +3,7 @@
 #include <CLI/CLI.hpp>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
 #include <iostream>
 #include <map>
 #include <nlohmann/json.hpp>
@@ -245,6 +246,8 @@ int runRender(const RenderCommand& r, const MpiContext& mpi) {
                      {"tile size", std::to_string(o.tileSize)},
                      {"leaf size", std::to_string(o.leafSize)},
                      {"branch method", branchMethodName(o.branchMethod)},
+                     {"bounds space", boundsSpaceName(o.boundsSpace)},
+                     {"merge triangles below", std::to_string(o.mergeTrianglesBelow)},
                      {"time refinement", o.timeRefinement ? "on" : "off"},
                      {"z culling", o.zCulling ? "on" : "off"}};
     context.facts.push_back(
@@ -401,19 +404,80 @@ int runSweepCommand(const SweepCommand& c) {
     return 0;
 }
 
-int runVerifyTiles(int cases, std::uint64_t seed) {
-    const std::vector<TileTestReport> reports = verifyTileTests(cases, seed);
-    bool anyFalseReject = false;
-    for (const TileTestReport& r : reports) {
-        char line[256];
+struct VerifyCommand {
+    std::int64_t cases = 2000;
+    std::uint64_t seed = 1;
+    int threads = 0;
+    int witnessEvery = 64;
+    std::string csv, summary, replay;
+};
+
+void writeVerifySummary(const TileVerifierResult& result, std::ostream& out) {
+    out << "variant,model,cases,true_hits,true_misses,false_rejects,false_accepts,"
+           "false_accept_percent,excess_median,excess_p90,excess_p95,excess_p99,excess_unit\n";
+    for (const TileTestReport& r : result.reports) {
+        char line[512];
         std::snprintf(
-            line, sizeof line, "%s: cases %lld, false rejects %lld, false accepts %lld (%.2f%%)",
-            r.name.c_str(), static_cast<long long>(r.cases), static_cast<long long>(r.falseRejects),
-            static_cast<long long>(r.falseAccepts), r.falseAcceptPercent());
-        std::cout << line << "\n";
-        anyFalseReject = anyFalseReject || r.falseRejects > 0;
+            line, sizeof line, "%s,%s,%lld,%lld,%lld,%lld,%lld,%.4f,%.4g,%.4g,%.4g,%.4g,%s\n",
+            r.name.c_str(), caseModelName(r.model), static_cast<long long>(r.cases),
+            static_cast<long long>(r.trueHits), static_cast<long long>(r.trueMisses),
+            static_cast<long long>(r.falseRejects), static_cast<long long>(r.falseAccepts),
+            r.falseAcceptPercent(), r.excess.quantile(0.5), r.excess.quantile(0.9),
+            r.excess.quantile(0.95), r.excess.quantile(0.99), r.excessUnit);
+        out << line;
     }
-    return anyFalseReject ? 1 : 0;
+}
+
+int runVerifyTiles(const VerifyCommand& c) {
+    if (!c.replay.empty()) {
+        if (!replayTileCase(c.replay, c.seed, std::cout))
+            throw InputError(
+                "command line", "--replay",
+                "'" + c.replay + "' is not a case name (pinhole:N, lens:N or hierarchy:N)");
+        return 0;
+    }
+    TileVerifierOptions o;
+    o.cases = c.cases;
+    o.seed = c.seed;
+    o.threads = c.threads;
+    o.witnessEvery = c.witnessEvery;
+    OutputSet outputs;
+    std::ofstream csv;
+    if (!c.csv.empty()) {
+        // Streamed into the reserved temporary: a million cases are too many rows to hold.
+        csv.open(outputs.file(c.csv, "--csv"));
+        if (!csv) throw InputError(c.csv, "--csv", "cannot write the file");
+        o.csv = &csv;
+    }
+    const TileVerifierResult result = verifyTileTests(o);
+    if (csv.is_open()) {
+        csv.close();
+        if (!csv) throw InputError(c.csv, "--csv", "writing the file failed");
+    }
+    if (!c.summary.empty())
+        outputs.writeText(c.summary, "--summary",
+                          [&](std::ostream& out) { writeVerifySummary(result, out); });
+    for (const TileTestReport& r : result.reports) {
+        char line[512], excess[128] = "excess -";
+        if (r.excess.count > 0)
+            std::snprintf(excess, sizeof excess, "excess median %.3g, p95 %.3g %s",
+                          r.excess.quantile(0.5), r.excess.quantile(0.95), r.excessUnit);
+        std::snprintf(line, sizeof line,
+                      "%s (%s): cases %lld, false rejects %lld, false accepts %lld of %lld misses "
+                      "(%.2f%%), %s",
+                      r.name.c_str(), caseModelName(r.model), static_cast<long long>(r.cases),
+                      static_cast<long long>(r.falseRejects),
+                      static_cast<long long>(r.falseAccepts), static_cast<long long>(r.trueMisses),
+                      r.falseAcceptPercent(), excess);
+        std::cout << line << "\n";
+        if (r.falseRejects > 0)
+            std::cout << "  first false reject: patchsim verify-tiles --seed " << c.seed
+                      << " --replay " << r.firstFailure << "\n";
+    }
+    std::cout << "witness: " << result.witnessCases << " cases sampled, " << result.witnessHits
+              << " sampled hits, " << result.witnessOutsideTruth << " outside the exact truth\n";
+    outputs.commit();
+    return result.anyFalseReject() ? 1 : 0;
 }
 
 }  // namespace
@@ -452,13 +516,26 @@ int main(int argc, char** argv) {
         app.add_subcommand("render", "Render a frame: image.exr, image.png and stats.json");
     addRenderOptions(*render, renderOptions);
 
-    int verifyCases = 2000;
-    std::uint64_t verifySeed = 1;
-    CLI::App* verify =
-        app.add_subcommand("verify-tiles", "Check the tile tests against ground truth");
-    verify->add_option("--cases", verifyCases, "Random cases per lens model")
-        ->check(CLI::PositiveNumber);
-    verify->add_option("--seed", verifySeed, "Seed of the random cases");
+    VerifyCommand verifyOptions;
+    CLI::App* verify = app.add_subcommand(
+        "verify-tiles", "Check the tile tests against exact ground truth (docs/TILE_TESTS.md)");
+    verify->add_option("--cases", verifyOptions.cases, "Random cases per model")
+        ->check(CLI::Range(std::int64_t(1), std::int64_t(1) << 40))
+        ->capture_default_str();
+    verify->add_option("--seed", verifyOptions.seed, "Seed of the random cases")
+        ->capture_default_str();
+    verify->add_option("--threads", verifyOptions.threads, "Worker threads (0: all cores)")
+        ->check(kThreadCount);
+    verify
+        ->add_option("--witness-every", verifyOptions.witnessEvery,
+                     "Check the exact truth with sampled rays on every Nth case (0: never)")
+        ->check(CLI::Range(0, 1 << 30))
+        ->capture_default_str();
+    verify->add_option("--csv", verifyOptions.csv, "Write one row per case and variant");
+    verify->add_option("--summary", verifyOptions.summary,
+                       "Write one row per variant (for scripts/plot_tile_tests.py)");
+    verify->add_option("--replay", verifyOptions.replay,
+                       "Print one case (e.g. lens:1234) in full and every variant's answer");
 
     SweepCommand sweepOptions;
     CLI::App* sweep = app.add_subcommand(
@@ -527,7 +604,7 @@ int main(int argc, char** argv) {
         if (*info) return runInfo(infoOptions);
         if (*tess) return runTessellate(tessOptions, tessOutput, tessTime, tessStats, tessQuiet);
         if (*render) return runRender(renderOptions, mpi);
-        if (*verify) return runVerifyTiles(verifyCases, verifySeed);
+        if (*verify) return runVerifyTiles(verifyOptions);
         if (*explore) return runExplore(exploreOptions, mpi);
         if (*sweep) return runSweepCommand(sweepOptions);
         // No subcommand: the main job, a render of the built-in default scene into out/.

@@ -16,7 +16,18 @@ constexpr EnumName<BranchMethod> kBranchMethods[] = {{BranchMethod::Root, "root"
                                                      {BranchMethod::FirstSplit, "first-split"},
                                                      {BranchMethod::Bitmask, "bitmask"}};
 
+constexpr EnumName<BoundsSpace> kBoundsSpaces[] = {{BoundsSpace::Camera3D, "3d"},
+                                                   {BoundsSpace::Homogeneous2D, "2dh"},
+                                                   {BoundsSpace::Screen2D, "2d"}};
+
 }  // namespace
+
+const char* boundsSpaceName(BoundsSpace s) {
+    return nameIn(kBoundsSpaces, s);
+}
+bool parseBoundsSpace(const std::string& name, BoundsSpace& out) {
+    return parseIn(kBoundsSpaces, name, out);
+}
 
 const char* branchMethodName(BranchMethod m) {
     return nameIn(kBranchMethods, m);
@@ -82,6 +93,12 @@ const std::vector<RasterizerOptionField> kFields = {
          if (j.is_string() && parseBranchMethod(j.get<std::string>(), o.branchMethod)) return {};
          return "unknown branch method " + describe(j) + " (root, first-split, bitmask)";
      }},
+    {"bounds_space", "--bounds-space",
+     "Bounds of the tile tests: 3d (camera space), 2dh (homogeneous) or 2d (screen space)",
+     [](RasterizerOptions& o, const Json& j) -> std::string {
+         if (j.is_string() && parseBoundsSpace(j.get<std::string>(), o.boundsSpace)) return {};
+         return "unknown bounds space " + describe(j) + " (" + namesIn(kBoundsSpaces) + ")";
+     }},
     {"time_refinement", "--time-refinement",
      "Narrow each tile's time interval at the leaves (true/false)",
      [](RasterizerOptions& o, const Json& j) { return boolean(j, o.timeRefinement); }},
@@ -91,6 +108,11 @@ const std::vector<RasterizerOptionField> kFields = {
      "Split larger patches into groups of at most this many triangles (0: 64 leaves' worth)",
      [](RasterizerOptions& o, const Json& j) {
          return integerIn(j, 0, 64 * 64, o.maxTrianglesPerGroup);
+     }},
+    {"merge_triangles_below", "--merge-triangles-below",
+     "Merge neighbouring patches of at most this many triangles into one hierarchy (0: never)",
+     [](RasterizerOptions& o, const Json& j) {
+         return integerIn(j, 0, 64 * 64, o.mergeTrianglesBelow);
      }},
 };
 

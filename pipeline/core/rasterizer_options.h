@@ -19,16 +19,26 @@ enum class BranchMethod : std::uint8_t { Root, FirstSplit, Bitmask };
 const char* branchMethodName(BranchMethod m);
 bool parseBranchMethod(const std::string& name, BranchMethod& out);
 
+// Where the tile tests bound the moving boxes (US 8,791,945): 3D camera space, 2D homogeneous
+// (X, Y, W) or 2D screen space (rasterizer/projected_bounds.h).
+enum class BoundsSpace : std::uint8_t { Camera3D, Homogeneous2D, Screen2D };
+const char* boundsSpaceName(BoundsSpace s);
+bool parseBoundsSpace(const std::string& name, BoundsSpace& out);
+
 struct RasterizerOptions {
     int tileSize = 8;     // pixels per tile side
     int leafSize = 4;     // triangles per leaf
     int boundsLevel = 0;  // tree level whose boxes give the screen bounds
     BranchMethod branchMethod = BranchMethod::Bitmask;
+    BoundsSpace boundsSpace = BoundsSpace::Camera3D;
     bool timeRefinement = true;  // narrow [tmin, tmax] at the leaves
     bool zCulling = true;        // tile far plane and ray tmax from the z-buffer
     // Larger patches are split into groups of at most this many triangles; 0: as many as a
     // hierarchy of 64 leaves holds (64 x leafSize), at most 256.
     int maxTrianglesPerGroup = 0;
+    // Neighbouring patches (in scene order) of at most this many triangles each are merged into
+    // one hierarchy, up to a group's worth; 0: never (every patch its own hierarchy).
+    int mergeTrianglesBelow = 0;
 
     int trianglesPerGroup() const;
     // Throws InputError(source, "rasterizer.max_triangles_per_group") when the fields disagree.

@@ -90,7 +90,9 @@ std::vector<PatchOps> collectPatchOps(const std::vector<TessellatedPatch>& patch
 }
 
 void chargeRasterWork(const RasterWork& w, PatchOps& o) {
-    o[Op::NodesBuilt] = double(w.nodesBuilt);
+    // A node converted to the 2DH or 2D bounds space costs what building one does: one pass over
+    // its two boxes.
+    o[Op::NodesBuilt] = double(w.nodesBuilt + w.nodesConverted);
     o[Op::PlaneTests] = double(w.planeTests);
     o[Op::TimeIntervals] = double(w.timeIntervals);
     o[Op::SamplesTested] = double(w.samplesTested);

@@ -59,6 +59,8 @@ TEST(PropertyTest, RandomMovingDefocusedPatchesAreConservativeAndExact) {
         scene.rasterizer.leafSize = 1 + c % 4;
         scene.rasterizer.maxTrianglesPerGroup = 8 * scene.rasterizer.leafSize;
         scene.rasterizer.branchMethod = BranchMethod(c % 3);
+        scene.rasterizer.boundsSpace = BoundsSpace(c / 3 % 3);
+        scene.rasterizer.mergeTrianglesBelow = c % 4 == 1 ? 16 : 0;
         ObjectDesc o;
         o.cagePath = randomCage(rng, cage);
         o.open.translate = {u(rng), u(rng), u(rng)};
