@@ -27,8 +27,11 @@ void PatchRasterizer::prepareGroup(const MovingMesh& mesh, const std::uint32_t* 
     work.hierarchyBytes += bytes;
     work.peakHierarchyBytes = std::max(work.peakHierarchyBytes, bytes);
     group.nodes.build(group.hierarchy, options_.boundsSpace, caster_.camera, caster_.lens, work);
+    // In 2D the nodes are already projected: the bounds are their rectangles' union.
     const ScreenBounds bounds =
-        screenBounds(group.hierarchy, options_.boundsLevel, caster_.camera, caster_.lens);
+        options_.boundsSpace == BoundsSpace::Screen2D
+            ? screenBounds(group.hierarchy, options_.boundsLevel, caster_.camera, group.nodes.screen)
+            : screenBounds(group.hierarchy, options_.boundsLevel, caster_.camera, caster_.lens);
     work.fullScreenBounds += bounds.fullScreen;
     group.tiles = tilesCovering(bounds, grid_);
 }

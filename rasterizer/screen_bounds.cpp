@@ -7,11 +7,46 @@
 
 namespace patchsim {
 
+namespace {
+
+// z = -1 plane bounds to raster pixels, widened by the margin.
+ScreenBounds toRaster(const float lo[2], const float hi[2], const Camera& camera) {
+    const float tanX = camera.tanHalfFovY() * camera.aspect(), tanY = camera.tanHalfFovY();
+    ScreenBounds b;
+    b.x0 = (lo[0] / tanX + 1.0f) * 0.5f * float(camera.width());
+    b.x1 = (hi[0] / tanX + 1.0f) * 0.5f * float(camera.width());
+    b.y0 = (1.0f - hi[1] / tanY) * 0.5f * float(camera.height());
+    b.y1 = (1.0f - lo[1] / tanY) * 0.5f * float(camera.height());
+    b.x0 -= kScreenBoundsMarginPixels;
+    b.y0 -= kScreenBoundsMarginPixels;
+    b.x1 += kScreenBoundsMarginPixels;
+    b.y1 += kScreenBoundsMarginPixels;
+    return b;
+}
+
+}  // namespace
+
+ScreenBounds screenBounds(const PatchHierarchy& h, int boundsLevel, const Camera& camera,
+                          const std::vector<ScreenMovingBox>& nodes) {
+    const int level = std::min(boundsLevel, h.depth());
+    float lo[2] = {1e30f, 1e30f}, hi[2] = {-1e30f, -1e30f};
+    for (int node = PatchHierarchy::firstLeaf(level); node < PatchHierarchy::firstLeaf(level + 1);
+         ++node) {
+        const ScreenMovingBox& s = nodes[std::size_t(node)];
+        if (s.empty) continue;
+        if (!s.bounded) return {0, 0, float(camera.width()), float(camera.height()), true};
+        for (int k = 0; k < 2; ++k) {
+            lo[k] = std::min({lo[k], s.lower0[k], s.lower1[k]});
+            hi[k] = std::max({hi[k], s.upper0[k], s.upper1[k]});
+        }
+    }
+    return toRaster(lo, hi, camera);
+}
+
 ScreenBounds screenBounds(const PatchHierarchy& h, int boundsLevel, const Camera& camera,
                           const LensModel& lens) {
     const int level = std::min(boundsLevel, h.depth());
     float lo[2] = {1e30f, 1e30f}, hi[2] = {-1e30f, -1e30f};
-    const float tanX = camera.tanHalfFovY() * camera.aspect(), tanY = camera.tanHalfFovY();
     for (int node = PatchHierarchy::firstLeaf(level); node < PatchHierarchy::firstLeaf(level + 1);
          ++node) {
         const LBBox& box = h.node(node);
@@ -31,16 +66,7 @@ ScreenBounds screenBounds(const PatchHierarchy& h, int boundsLevel, const Camera
             }
         }
     }
-    ScreenBounds b;
-    b.x0 = (lo[0] / tanX + 1.0f) * 0.5f * float(camera.width());
-    b.x1 = (hi[0] / tanX + 1.0f) * 0.5f * float(camera.width());
-    b.y0 = (1.0f - hi[1] / tanY) * 0.5f * float(camera.height());
-    b.y1 = (1.0f - lo[1] / tanY) * 0.5f * float(camera.height());
-    b.x0 -= kScreenBoundsMarginPixels;
-    b.y0 -= kScreenBoundsMarginPixels;
-    b.x1 += kScreenBoundsMarginPixels;
-    b.y1 += kScreenBoundsMarginPixels;
-    return b;
+    return toRaster(lo, hi, camera);
 }
 
 TileRange tilesCovering(const ScreenBounds& b, const TileGrid& grid) {

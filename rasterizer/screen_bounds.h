@@ -10,6 +10,7 @@
 #include "pipeline/core/camera.h"
 #include "pipeline/core/ray.h"
 #include "rasterizer/patch_hierarchy.h"
+#include "rasterizer/projected_bounds.h"
 #include "rasterizer/tile_grid.h"
 
 namespace patchsim {
@@ -21,6 +22,10 @@ struct ScreenBounds {
 
 ScreenBounds screenBounds(const PatchHierarchy& hierarchy, int level, const Camera& camera,
                           const LensModel& lens);
+// The same from the 2D bounds space's nodes (one per hierarchy node, already projected at t=0 and
+// t=1 with their circles of confusion): the union of their rectangles at `level`.
+ScreenBounds screenBounds(const PatchHierarchy& hierarchy, int level, const Camera& camera,
+                          const std::vector<ScreenMovingBox>& screenNodes);
 
 // The tiles the bounds touch (one pixel of slack right and below: samples reach the far edge of
 // their pixel); empty when the bounds are off screen.

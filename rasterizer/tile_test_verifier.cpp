@@ -176,6 +176,7 @@ std::vector<std::string> hierarchyCheckNames() {
     for (BranchMethod m : kBranchMethods)
         names.push_back(std::string("branch-") + branchMethodName(m));
     for (int l = 0; l < kBoundsLevels; ++l) names.push_back("bounds-level-" + std::to_string(l));
+    for (int l = 0; l < kBoundsLevels; ++l) names.push_back("bounds-2d-level-" + std::to_string(l));
     return names;
 }
 
@@ -248,10 +249,15 @@ CheckResult judgeBranch(const HierarchyCase& c, const HierarchyTruth& truth, int
     return r;
 }
 
-CheckResult judgeBounds(const HierarchyCase& c, const HierarchyTruth& truth, int level) {
+// `screenNodes` empty: the bounds from the 3D boxes; else from the 2D space's nodes.
+CheckResult judgeBounds(const HierarchyCase& c, const HierarchyTruth& truth, int level,
+                        const std::vector<ScreenMovingBox>& screenNodes) {
     const Camera& camera = verifierCamera();
     const TileGrid grid{camera.width(), camera.height(), c.tileSize};
-    const TileRange covered = tilesCovering(screenBounds(c.hierarchy, level, camera, c.lens), grid);
+    const TileRange covered =
+        tilesCovering(screenNodes.empty() ? screenBounds(c.hierarchy, level, camera, c.lens)
+                                          : screenBounds(c.hierarchy, level, camera, screenNodes),
+                      grid);
     CheckResult r;
     r.accept = c.tileX >= covered.x0 && c.tileX < covered.x1 && c.tileY >= covered.y0 &&
                c.tileY < covered.y1;
@@ -266,9 +272,9 @@ std::vector<CheckResult> hierarchyChecks(const HierarchyCase& c, const Hierarchy
     std::vector<CheckResult> results;
     const Camera& camera = verifierCamera();
     TileTraversal cameraSpace;
+    SpaceNodes nodes;
     for (BoundsSpace s : kSpaces) {
         RasterWork work;
-        SpaceNodes nodes;
         nodes.build(c.hierarchy, s, camera, c.lens, work);
         const TileTraversal t = traverseTile(
             c.hierarchy, nodes, {&camera, c.lens, c.tile(), camera.farPlane()}, true, true, work);
@@ -278,7 +284,10 @@ std::vector<CheckResult> hierarchyChecks(const HierarchyCase& c, const Hierarchy
     for (BranchMethod m : kBranchMethods)
         results.push_back(judgeBranch(
             c, truth, cameraSpace.overlaps ? branchNode(m, cameraSpace, c.hierarchy.depth()) : 0));
-    for (int l = 0; l < kBoundsLevels; ++l) results.push_back(judgeBounds(c, truth, l));
+    for (int l = 0; l < kBoundsLevels; ++l) results.push_back(judgeBounds(c, truth, l, {}));
+    // `nodes` holds the 2D space's, built last.
+    for (int l = 0; l < kBoundsLevels; ++l)
+        results.push_back(judgeBounds(c, truth, l, nodes.screen));
     return results;
 }
 

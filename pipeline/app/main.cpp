@@ -120,11 +120,28 @@ int runTessellate(const CommonOptions& common, const std::string& output, float 
     return 0;
 }
 
+// The postprocess method's filter (backend/motion_blur_postprocess.h), for render and sweep.
+void addPostprocessOptions(CLI::App& cmd, PostprocessOptions& p) {
+    cmd.add_option("--pp-tile-size", p.tileSize,
+                   "postprocess: TileMax tile size k in pixels (velocities are clamped to it)")
+        ->check(CLI::Range(1, 1024))
+        ->capture_default_str();
+    cmd.add_option("--pp-samples", p.samples, "postprocess: samples gathered per pixel (odd)")
+        ->check(CLI::Range(3, 255))
+        ->capture_default_str();
+    cmd.add_option("--soft-z-extent", p.softZExtent,
+                   "postprocess: SOFT_Z_EXTENT, the depth over which samples blend from in front "
+                   "to behind (scene units)")
+        ->check(CLI::Range(1e-6f, 1e6f))
+        ->capture_default_str();
+}
+
 struct RenderCommand {
     CommonOptions common;
     std::string outputDir = "out";
     std::string method = "patch";
     int timeStrata = 4;
+    PostprocessOptions postprocess;
     // Rasterizer options given on the command line override the scene's, by their table key.
     std::map<std::string, std::string> rasterizer;
     bool noTimeRefinement = false, noZCulling = false, quiet = false;
@@ -144,6 +161,7 @@ void addRenderOptions(CLI::App& cmd, RenderCommand& r) {
         ->check(CLI::IsMember(methods));
     cmd.add_option("--time-strata", r.timeStrata, "Time strata of the interval method")
         ->check(CLI::Range(1, 64));
+    addPostprocessOptions(cmd, r.postprocess);
     for (const RasterizerOptionField& field : rasterizerOptionFields()) {
         cmd.add_option_function<std::string>(
             field.flag, [&r, key = field.key](const std::string& v) { r.rasterizer[key] = v; },
@@ -183,6 +201,7 @@ int runRender(const RenderCommand& r, const MpiContext& mpi) {
     RenderOptions options;
     parseVisibilityMethod(r.method, options.method);  // CLI11 checked the name
     options.timeStrata = r.timeStrata;
+    options.postprocess = r.postprocess;
     options.overrides = r.common.overrides;
     options.threads = mpi.threadsPerRank(r.common.threads);
     options.maxLayers = r.maxLayers;
@@ -337,9 +356,11 @@ int runExplore(const ExploreCommand& e, const MpiContext& mpi) {
 
 struct SweepCommand {
     std::vector<std::string> scenes;
-    std::string methods = "patch,triangle-bbox,interval,interleaved", spp = "1,4,16,64", blur = "1",
+    std::string methods = "patch,triangle-bbox,interval,interleaved,postprocess", spp = "1,4,16,64",
+                blur = "1",
                 output = "sweep", hardware;
     int repeats = 3, convergedSpp = 0, threads = 0, timeStrata = 4;
+    PostprocessOptions postprocess;
     std::uint64_t memoryBudgetMiB = 4096;
     bool noProgress = false;
 };
@@ -382,6 +403,7 @@ int runSweepCommand(const SweepCommand& c) {
     o.convergedSamplesPerPixel = c.convergedSpp;
     o.render.threads = c.threads;
     o.render.timeStrata = c.timeStrata;
+    o.render.postprocess = c.postprocess;
     o.hardware = c.hardware.empty() ? defaultHardwareConfig() : readHardwareConfig(c.hardware);
     o.limits = limitsOf(c.memoryBudgetMiB);
     o.outputDir = c.output;
@@ -565,6 +587,7 @@ int main(int argc, char** argv) {
         ->check(CLI::Range(0, 1 << 20));
     sweep->add_option("--time-strata", sweepOptions.timeStrata, "K of the interval method")
         ->check(CLI::Range(1, 64));
+    addPostprocessOptions(*sweep, sweepOptions.postprocess);
     sweep->add_option("--threads", sweepOptions.threads, "Worker threads (0: all cores)")
         ->check(kThreadCount);
     sweep->add_option("--hw", sweepOptions.hardware, "Hardware configuration for modelled cycles");

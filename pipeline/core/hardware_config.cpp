@@ -26,11 +26,12 @@ constexpr const char* kOpNames[kOpCount] = {"patches",
                                             "invocations",
                                             "depth_tests",
                                             "transparent_fragments",
-                                            "triangle_setups"};
+                                            "triangle_setups",
+                                            "post_samples"};
 constexpr Stage kOpStages[kOpCount] = {Stage::IA, Stage::VS, Stage::HS, Stage::TS, Stage::TS,
                                        Stage::DS, Stage::DS, Stage::RS, Stage::RS, Stage::RS,
                                        Stage::RS, Stage::RS, Stage::RS, Stage::PS, Stage::OM,
-                                       Stage::OM, Stage::RS};
+                                       Stage::OM, Stage::RS, Stage::PS};
 
 int findOp(const std::string& name, Stage stage) {
     for (int k = 0; k < kOpCount; ++k)

@@ -34,9 +34,10 @@ enum class Op : std::uint8_t {
     Invocations,           // PS
     DepthTests,            // OM: visibility samples written
     TransparentFragments,  // OM
-    TriangleSetups         // RS: triangle screen bounds (the bounding-box methods)
+    TriangleSetups,        // RS: triangle screen bounds (the bounding-box methods)
+    PostSamples            // PS: post-process passes' pixel reads (TileMax, gather)
 };
-inline constexpr int kOpCount = 17;
+inline constexpr int kOpCount = 18;
 const char* opName(Op op);  // the JSON key, e.g. "ray_box_tests"
 Stage stageOf(Op op);
 

@@ -54,8 +54,13 @@ std::uint32_t permute(std::uint32_t i, std::uint32_t n, std::uint32_t key) {
 }  // namespace
 
 SampleGenerator::SampleGenerator(std::uint64_t seed, int samplesPerPixel, const Effects& effects,
-                                 SamplePattern pattern)
-    : seed_(seed), spp_(samplesPerPixel), gridSide_(0), effects_(effects), pattern_(pattern) {
+                                 SamplePattern pattern, float stillTime)
+    : seed_(seed),
+      spp_(samplesPerPixel),
+      gridSide_(0),
+      effects_(effects),
+      pattern_(pattern),
+      stillTime_(stillTime) {
     const int side = int(std::lround(std::sqrt(double(samplesPerPixel))));
     if (side * side == samplesPerPixel) gridSide_ = side;
 }
@@ -88,7 +93,7 @@ Sample SampleGenerator::sample(int x, int y, int index) const {
     }
     // Grid times and lens coordinates reach both ends of [0, 1].
     const float spread = grid ? float(std::max<std::uint32_t>(n - 1, 1)) : float(n);
-    s.time = effects_.timeSamples() ? (stratum(6) + jitter(7)) / spread : 0.0f;
+    s.time = effects_.timeSamples() ? (stratum(6) + jitter(7)) / spread : stillTime_;
     s.lens = effects_.defocus
                  ? Vec2((stratum(8) + jitter(9)) / spread, (stratum(10) + jitter(11)) / spread)
                  : Vec2(0.5f, 0.5f);

@@ -34,8 +34,10 @@ struct Sample {
 
 class SampleGenerator {
   public:
+    // `stillTime`: every sample's time when nothing varies over the shutter (the post-process
+    // methods' sharp frame is taken at mid-shutter).
     SampleGenerator(std::uint64_t seed, int samplesPerPixel, const Effects& effects,
-                    SamplePattern pattern = SamplePattern::Stratified);
+                    SamplePattern pattern = SamplePattern::Stratified, float stillTime = 0.0f);
 
     Sample sample(int x, int y, int index) const;
     int samplesPerPixel() const { return spp_; }
@@ -47,6 +49,7 @@ class SampleGenerator {
     int gridSide_;  // > 0 when spp is a perfect square
     Effects effects_;
     SamplePattern pattern_;
+    float stillTime_;
 };
 
 // Shirley-Chiu concentric map of [0,1)^2 to the unit disk.

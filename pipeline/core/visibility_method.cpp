@@ -14,6 +14,9 @@ const std::vector<VisibilityMethodInfo>& visibilityMethods() {
          "Fatahalian et al. 2009: time strata, per-stratum bounds"},
         {VisibilityMethod::Interleaved, "interleaved", false,
          "accumulation buffer: one time and lens point per sample index in every pixel"},
+        {VisibilityMethod::Postprocess, "postprocess", false,
+         "McGuire et al. 2012 reconstruction filter on a mid-shutter pinhole frame (weights as in "
+         "Tan et al. 2022)"},
     };
     return methods;
 }

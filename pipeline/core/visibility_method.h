@@ -14,7 +14,8 @@ enum class VisibilityMethod : std::uint8_t {
     Reference,
     TriangleBBox,
     Interval,
-    Interleaved
+    Interleaved,
+    Postprocess
 };
 
 struct VisibilityMethodInfo {

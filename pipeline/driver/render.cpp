@@ -122,6 +122,11 @@ bool isBoundingMethod(VisibilityMethod m) {
            m == VisibilityMethod::Interleaved;
 }
 
+// The post-process renders its sharp frame with the patch rasterizer.
+bool usesPatchRasterizer(VisibilityMethod m) {
+    return m == VisibilityMethod::Patch || m == VisibilityMethod::Postprocess;
+}
+
 // Reference rows are dealt in this many horizontal bands, like the patch method's row classes.
 constexpr int kReferenceBands = kRowClasses;
 
@@ -142,7 +147,7 @@ Visibility runVisibility(const SceneDesc& scene, const RenderOptions& options,
     const auto ownsClass = [share](int c) { return c % share.ranks == share.rank; };
     const std::size_t count = fe.meshes.size();
     Visibility v;
-    if (options.method == VisibilityMethod::Patch) {
+    if (usesPatchRasterizer(options.method)) {
         FrameRasterOptions frame;
         frame.threads = workers;
         if (options.patchOrderSeed) {
@@ -210,7 +215,7 @@ Visibility runVisibility(const SceneDesc& scene, const RenderOptions& options,
 }  // namespace
 
 const RatioCounter& sampleTestEfficiencyOf(VisibilityMethod method) {
-    if (method == VisibilityMethod::Patch) return sampleTestEfficiency();
+    if (usesPatchRasterizer(method)) return sampleTestEfficiency();
     if (method == VisibilityMethod::Reference) return referenceSampleTestEfficiency();
     return boundingSampleTestEfficiency(boundingOf(method));
 }
@@ -218,7 +223,7 @@ const RatioCounter& sampleTestEfficiencyOf(VisibilityMethod method) {
 VisibilityTotals visibilityTotals(const CounterValues& v, VisibilityMethod method) {
     VisibilityTotals t;
     t.sampleTestEfficiency = v.ratio(sampleTestEfficiencyOf(method));
-    if (method == VisibilityMethod::Patch) {
+    if (usesPatchRasterizer(method)) {
         const RasterCounters& c = rasterCounters();
         t = {v[c.samplesTested], v[c.raysCast], v[c.visibilitySamples], t.sampleTestEfficiency};
     } else if (method == VisibilityMethod::Reference) {
@@ -252,11 +257,19 @@ RenderResult renderScene(const SceneDesc& scene, const RenderOptions& options) {
     result.frontEndSeconds = secondsSince(start);
 
     start = std::chrono::steady_clock::now();
-    // The interleaved method is an accumulation buffer: its samples repeat in every pixel.
-    const SampleGenerator samples(scene.film.seed, scene.film.samplesPerPixel, result.effects,
+    // The interleaved method is an accumulation buffer: its samples repeat in every pixel. The
+    // post-process starts from a sharp frame: every sample at mid-shutter, through a pinhole.
+    const bool postprocess = options.method == VisibilityMethod::Postprocess;
+    Effects sampled = result.effects, rasterized = result.effects;
+    if (postprocess) {
+        sampled.motion = sampled.shadingVaries = sampled.defocus = false;
+        rasterized.defocus = false;
+    }
+    const SampleGenerator samples(scene.film.seed, scene.film.samplesPerPixel, sampled,
                                   options.method == VisibilityMethod::Interleaved
                                       ? SamplePattern::Interleaved
-                                      : scene.film.sampler);
+                                      : scene.film.sampler,
+                                  postprocess ? 0.5f : 0.0f);
     result.visibility = std::make_unique<VisibilityBuffer>(
         scene.film.width, scene.film.height, scene.film.samplesPerPixel, camera.farPlane());
     if (result.effects.transparency)
@@ -269,7 +282,7 @@ RenderResult renderScene(const SceneDesc& scene, const RenderOptions& options) {
                                     result.pixels.get(), 0};
     const CounterValues beforeVisibility = CounterRegistry::instance().snapshot();
     Visibility visibility =
-        runVisibility(scene, options, fe, camera, samples, result.effects, targets, workers);
+        runVisibility(scene, options, fe, camera, samples, rasterized, targets, workers);
     for (const RasterWork& w : visibility.tiles) w.flush();
     const FrameShare& share = options.share;
     if (share.split()) {
@@ -292,7 +305,7 @@ RenderResult renderScene(const SceneDesc& scene, const RenderOptions& options) {
     }
     std::vector<PatchOps> visibilityOps(result.patches);
     for (std::size_t i = 0; i < result.patches; ++i) {
-        if (options.method == VisibilityMethod::Patch) {
+        if (usesPatchRasterizer(options.method)) {
             visibility.hierarchies[i].flush();
             RasterWork work = visibility.hierarchies[i];
             work.add(visibility.tiles[i]);
@@ -317,6 +330,13 @@ RenderResult renderScene(const SceneDesc& scene, const RenderOptions& options) {
         result.frame = resolveFrame(context, *result.visibility, result.transparent.get(), samples,
                                     options.resolve, workers, &progress);
     }
+    PostprocessWork post;
+    if (postprocess && result.effects.motion) {
+        PostprocessOptions o = options.postprocess;
+        o.seed = scene.film.seed;
+        result.frame.color = reconstructMotionBlur(result.frame, camera.farPlane(), o, post);
+        post.flush();
+    }
     result.shadingSeconds = secondsSince(start);
     result.patchOps = collectPatchOps(
         fe.patches, shadingWorkPerPatch(*result.visibility, result.transparent.get(),
@@ -328,6 +348,10 @@ RenderResult renderScene(const SceneDesc& scene, const RenderOptions& options) {
                 result.patchOps[i].ops[std::size_t(op)] += visibilityOps[i].ops[std::size_t(op)];
     for (std::size_t i = 0; i < result.patches; ++i)
         result.patchOps[i].hierarchyBytes = visibilityOps[i].hierarchyBytes;
+    // The post-process passes run once the last patch is shaded.
+    if (!result.patchOps.empty())
+        result.patchOps.back().ops[std::size_t(Op::PostSamples)] +=
+            double(post.pixels + post.gatherSamples);
     return result;
 }
 

@@ -15,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include "backend/motion_blur_postprocess.h"
 #include "backend/resolve.h"
 #include "pipeline/core/effects.h"
 #include "pipeline/core/progress.h"
@@ -47,6 +48,7 @@ struct RenderOptions {
     int threads = 0;
     int maxLayers = 16;  // transparent t-fragments kept per sample
     int timeStrata = 4;  // the interval method's K
+    PostprocessOptions postprocess;  // the postprocess method's filter
     ResolveOptions resolve;
     bool heatMaps = false;             // collect per-pixel work
     bool progress = false;             // progress bar (when standard error is a terminal)

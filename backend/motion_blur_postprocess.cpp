@@ -1,0 +1,139 @@
+#include "backend/motion_blur_postprocess.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "pipeline/core/counters.h"
+#include "pipeline/core/samples.h"
+
+namespace patchsim {
+
+namespace {
+
+const Counter ppPixels{"PP/Pixels", "pixels", "Pixels of the sharp frame read into TileMax"};
+const Counter ppTiles{"PP/Tiles", "tiles", "TileMax and NeighbourMax tiles computed"};
+const Counter ppBlurred{"PP/Blurred pixels", "pixels",
+                        "Pixels whose neighbourhood moves by more than half a pixel (gathered)"};
+const Counter ppGather{"PP/Gather samples", "samples",
+                       "Samples read and weighted by the reconstruction filter's gather"};
+
+float saturate(float x) {
+    return std::clamp(x, 0.0f, 1.0f);
+}
+
+float smoothstep(float a, float b, float x) {
+    const float t = b > a ? saturate((x - a) / (b - a)) : (x >= b ? 1.0f : 0.0f);
+    return t * t * (3.0f - 2.0f * t);
+}
+
+float cylinder(float v, float s) {
+    return 1.0f - smoothstep(0.95f * v, 1.05f * v, s);
+}
+
+// 1 - s / v, saturated; a still pixel (v = 0) reaches nothing beyond itself.
+float reach(float s, float v) {
+    return v > 0.0f ? saturate(1.0f - s / v) : (s <= 0.0f ? 1.0f : 0.0f);
+}
+
+struct Velocities {
+    int width = 0, height = 0;
+    std::vector<Vec2> v;  // per pixel, half the exposure's motion, at most k long
+    Vec2 at(int x, int y) const { return v[std::size_t(y) * std::size_t(width) + std::size_t(x)]; }
+};
+
+Velocities pixelVelocities(const ResolvedFrame& f, float k) {
+    Velocities out{f.color.width, f.color.height, {}};
+    out.v.resize(f.motionX.size());
+    for (std::size_t i = 0; i < out.v.size(); ++i) {
+        Vec2 v = 0.5f * Vec2(f.motionX[i], f.motionY[i]);
+        const float len = glm::length(v);
+        if (len > k) v *= k / len;
+        out.v[i] = v;
+    }
+    return out;
+}
+
+// The longest velocity of each tile, then of each tile's 3 x 3 neighbourhood.
+std::vector<Vec2> neighbourMax(const Velocities& v, int k, int tilesX, int tilesY,
+                               PostprocessWork& work) {
+    std::vector<Vec2> tileMax(std::size_t(tilesX) * std::size_t(tilesY), Vec2(0));
+    for (int y = 0; y < v.height; ++y) {
+        for (int x = 0; x < v.width; ++x) {
+            Vec2& m = tileMax[std::size_t(y / k) * std::size_t(tilesX) + std::size_t(x / k)];
+            const Vec2 p = v.at(x, y);
+            if (glm::dot(p, p) > glm::dot(m, m)) m = p;
+        }
+    }
+    work.pixels += std::int64_t(v.width) * v.height;
+    std::vector<Vec2> out(tileMax.size(), Vec2(0));
+    for (int ty = 0; ty < tilesY; ++ty) {
+        for (int tx = 0; tx < tilesX; ++tx) {
+            Vec2& m = out[std::size_t(ty) * std::size_t(tilesX) + std::size_t(tx)];
+            for (int dy = -1; dy <= 1; ++dy) {
+                for (int dx = -1; dx <= 1; ++dx) {
+                    const int nx = tx + dx, ny = ty + dy;
+                    if (nx < 0 || ny < 0 || nx >= tilesX || ny >= tilesY) continue;
+                    const Vec2 p = tileMax[std::size_t(ny) * std::size_t(tilesX) + std::size_t(nx)];
+                    if (glm::dot(p, p) > glm::dot(m, m)) m = p;
+                }
+            }
+        }
+    }
+    work.tiles += 2 * std::int64_t(tileMax.size());
+    return out;
+}
+
+}  // namespace
+
+void PostprocessWork::flush() const {
+    ppPixels += pixels;
+    ppTiles += tiles;
+    ppBlurred += blurredPixels;
+    ppGather += gatherSamples;
+}
+
+Image reconstructMotionBlur(const ResolvedFrame& sharp, float farDepth,
+                            const PostprocessOptions& o, PostprocessWork& work) {
+    const int w = sharp.color.width, h = sharp.color.height, k = std::max(1, o.tileSize);
+    const Velocities v = pixelVelocities(sharp, float(k));
+    const int tilesX = (w + k - 1) / k, tilesY = (h + k - 1) / k;
+    const std::vector<Vec2> vN = neighbourMax(v, k, tilesX, tilesY, work);
+    auto depth = [&](int x, int y) {
+        const float z = sharp.depth[std::size_t(y) * std::size_t(w) + std::size_t(x)];
+        return z > 0.0f ? z : farDepth;
+    };
+    Image out = sharp.color;
+    const int S = std::max(3, o.samples | 1);
+    for (int y = 0; y < h; ++y) {
+        for (int x = 0; x < w; ++x) {
+            const Vec2 n = vN[std::size_t(y / k) * std::size_t(tilesX) + std::size_t(x / k)];
+            if (glm::length(n) <= 0.5f) continue;
+            ++work.blurredPixels;
+            const float vt = glm::length(v.at(x, y)), zt = depth(x, y);
+            float weight = 1.0f / std::max(vt, 1.0f);
+            Vec3 sum = sharp.color.get(x, y) * weight;
+            const std::uint64_t hash = mix64(o.seed ^ mix64((std::uint64_t(x) << 32) | std::uint64_t(y)));
+            const float jitter = float(hash >> 40) * (1.0f / 16777216.0f) - 0.5f;
+            for (int i = 0; i < S; ++i) {
+                if (i == (S - 1) / 2) continue;
+                const float t = -1.0f + 2.0f * (float(i) + jitter + 1.0f) / float(S + 1);
+                const int sx = std::clamp(int(std::floor(float(x) + n.x * t + 0.5f)), 0, w - 1);
+                const int sy = std::clamp(int(std::floor(float(y) + n.y * t + 0.5f)), 0, h - 1);
+                const float s = glm::length(Vec2(float(sx - x), float(sy - y)));
+                const float vs = glm::length(v.at(sx, sy));
+                const float z = (zt - depth(sx, sy)) / o.softZExtent;
+                const float wf = saturate(1.0f + z) * reach(s, vs);
+                const float wb = saturate(1.0f - z) * reach(s, vt);
+                const float ws = cylinder(vs, s) * cylinder(vt, s) * 2.0f;
+                const float a = wf + wb + ws;
+                weight += a;
+                sum += a * sharp.color.get(sx, sy);
+                ++work.gatherSamples;
+            }
+            out.set(x, y, sum / weight);
+        }
+    }
+    return out;
+}
+
+}  // namespace patchsim

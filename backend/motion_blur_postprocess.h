@@ -1,0 +1,52 @@
+#pragma once
+// Post-process motion blur (McGuire, Hennessy, Bukowski, Osman 2012, "A reconstruction filter for
+// plausible motion blur"), with the sample weights as restated in the appendix of Tan et al. 2022
+// (../shared/seeds/tan2022-hybrid-mblur.md): the `postprocess` visibility method.
+//
+// Input is one sharp frame rendered with a pinhole at mid-shutter: its colour, depth, and each
+// pixel's screen motion over the exposure (the resolve's motion AOV). A pixel's velocity V is
+// half that motion (the blur reaches that far on either side), clamped to the tile size k.
+// TileMax keeps each k x k tile's longest velocity, NeighbourMax the longest of the 3 x 3 tiles
+// around; a pixel whose neighbourhood is still (|v_N| <= 0.5 pixel) is returned unchanged.
+// Otherwise it gathers S samples along v_N (jittered, spread over [-1, 1] x v_N) and weights each
+// by w = w_f + w_b + w_s:
+//
+//   z   = (z_target - z_sample) / SOFT_Z_EXTENT   (> 0: the sample is in front)
+//   w_f = saturate(1 + z) saturate(1 - s / v_sample)     a blurry sample in front covers it
+//   w_b = saturate(1 - z) saturate(1 - s / v_target)     what lies behind a blurry target
+//   w_s = cylinder(v_sample, s) cylinder(v_target, s) 2  both blurry
+//   cylinder(v, s) = 1 - smoothstep(0.95 v, 1.05 v, s)
+//
+// with s the distance in pixels. Pixels with no hit are background at the far plane. Its known
+// failure: the background behind a moving object is not in the frame, so inner blur shows the
+// object's neighbours instead (docs/ACCURACY.md).
+
+#include <cstdint>
+
+#include "backend/image.h"
+#include "backend/resolve.h"
+
+namespace patchsim {
+
+struct PostprocessOptions {
+    int tileSize = 20;          // k, pixels (McGuire et al. use 20 at 1280x720)
+    int samples = 15;           // S, gathered per pixel (odd: the centre is the pixel itself)
+    float softZExtent = 0.05f;  // SOFT_Z_EXTENT, scene units of depth
+    std::uint64_t seed = 0;     // the gather's per-pixel jitter
+};
+
+// What the filter did (counters PP/*, charged to the pixel shader stage by the timing model).
+struct PostprocessWork {
+    std::int64_t pixels = 0;         // pixels read into TileMax
+    std::int64_t tiles = 0;          // tiles of TileMax and NeighbourMax
+    std::int64_t blurredPixels = 0;  // pixels whose neighbourhood moves
+    std::int64_t gatherSamples = 0;  // samples weighted in the gather
+    void flush() const;              // into the PP/ counters
+};
+
+// The blurred colour of `sharp` (same size). `farDepth` stands in for the depth of pixels with no
+// hit.
+Image reconstructMotionBlur(const ResolvedFrame& sharp, float farDepth,
+                            const PostprocessOptions& options, PostprocessWork& work);
+
+}  // namespace patchsim

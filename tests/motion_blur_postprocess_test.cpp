@@ -1,0 +1,116 @@
+#include "backend/motion_blur_postprocess.h"
+
+#include <gtest/gtest.h>
+
+#include "pipeline/core/counters.h"
+#include "pipeline/core/scene_reader.h"
+#include "pipeline/driver/render.h"
+#include "tests/test_paths.h"
+
+namespace patchsim {
+namespace {
+
+// A w x h frame: dark background (no hit), and a bright square [x0, x1) x [y0, y1) at depth 1
+// moving by `motion` pixels over the exposure.
+ResolvedFrame squareFrame(int w, int h, int x0, int x1, int y0, int y1, Vec2 motion) {
+    ResolvedFrame f;
+    f.color = Image(w, h);
+    const std::size_t n = std::size_t(w) * std::size_t(h);
+    f.depth.assign(n, 0.0f);
+    f.coverage.assign(n, 0.0f);
+    f.motionX.assign(n, 0.0f);
+    f.motionY.assign(n, 0.0f);
+    for (int y = 0; y < h; ++y) {
+        for (int x = 0; x < w; ++x) {
+            const std::size_t i = std::size_t(y) * std::size_t(w) + std::size_t(x);
+            f.color.set(x, y, Vec3(0.1f));
+            if (x < x0 || x >= x1 || y < y0 || y >= y1) continue;
+            f.color.set(x, y, Vec3(1.0f, 0.5f, 0.25f));
+            f.depth[i] = 1.0f;
+            f.coverage[i] = 1.0f;
+            f.motionX[i] = motion.x;
+            f.motionY[i] = motion.y;
+        }
+    }
+    return f;
+}
+
+TEST(Postprocess, AStillFrameComesBackUnchanged) {
+    ResolvedFrame f = squareFrame(64, 48, 20, 40, 10, 30, Vec2(0));
+    for (std::size_t i = 0; i < f.color.rgb.size(); ++i) f.color.rgb[i] = float(i % 17) / 17.0f;
+    PostprocessWork work;
+    const Image out = reconstructMotionBlur(f, 100.0f, {}, work);
+    EXPECT_EQ(out.rgb, f.color.rgb);
+    EXPECT_EQ(work.blurredPixels, 0);
+    EXPECT_EQ(work.gatherSamples, 0);
+    EXPECT_EQ(work.pixels, 64 * 48);
+}
+
+// The square moves 16 pixels to the right: it smears up to 8 pixels either side along x (outer
+// blur, w_f), its own edge turns partly background (inner blur, w_b), and nothing moves along y.
+TEST(Postprocess, AMovingSquareBlursAlongItsMotionOnly) {
+    const ResolvedFrame f = squareFrame(80, 60, 30, 50, 20, 40, Vec2(16, 0));
+    PostprocessOptions o;
+    o.tileSize = 10;
+    PostprocessWork work;
+    const Image out = reconstructMotionBlur(f, 100.0f, o, work);
+    const float background = 0.1f, square = 1.0f;
+    const float outside = out.get(53, 30).x;  // 3 pixels right of the square
+    EXPECT_GT(outside, background + 0.1f);
+    EXPECT_LT(outside, square - 0.1f);
+    EXPECT_NEAR(out.get(70, 30).x, background, 1e-6f);  // beyond the blur's reach
+    const float edge = out.get(31, 30).x;               // just inside the left edge
+    EXPECT_LT(edge, square - 0.05f);
+    EXPECT_GT(edge, background + 0.05f);
+    EXPECT_NEAR(out.get(40, 30).x, square, 0.05f);       // the middle stays the square's
+    EXPECT_NEAR(out.get(40, 10).x, background, 1e-6f);   // above: its tile and neighbours still
+    EXPECT_NEAR(out.get(40, 17).x, background, 0.02f);   // just above: sampled along x only
+    EXPECT_GT(work.blurredPixels, 0);
+    EXPECT_EQ(work.gatherSamples, work.blurredPixels * (o.samples - 1));
+}
+
+SceneDesc small(const char* path) {
+    SceneDesc scene = readSceneFile(test::sourcePath(path));
+    scene.film.width = 64;
+    scene.film.height = 48;
+    scene.film.samplesPerPixel = 4;
+    return scene;
+}
+
+RenderResult renderWith(const SceneDesc& scene, VisibilityMethod m) {
+    RenderOptions o;
+    o.method = m;
+    o.threads = 1;
+    return renderScene(scene, o);
+}
+
+TEST(Postprocess, AStillSceneRendersAsThePatchMethodDoes) {
+    SceneDesc scene = small("scenes/motion.json");
+    for (ObjectDesc& o : scene.objects) o.close = o.open;
+    scene.camera.close = scene.camera.open;
+    const RenderResult post = renderWith(scene, VisibilityMethod::Postprocess);
+    const RenderResult patch = renderWith(scene, VisibilityMethod::Patch);
+    EXPECT_FALSE(post.effects.motion);
+    EXPECT_EQ(post.frame.color.rgb, patch.frame.color.rgb);
+}
+
+TEST(Postprocess, AMovingSceneIsOneSharpFrameThenTheFilter) {
+    const SceneDesc scene = small("scenes/motion.json");
+    CounterRegistry::instance().reset();
+    const RenderResult post = renderWith(scene, VisibilityMethod::Postprocess);
+    const CounterValues c = CounterRegistry::instance().snapshot();
+    EXPECT_GT(c.byName("PP/Blurred pixels"), 0);
+    EXPECT_EQ(c.byName("PP/Pixels"), 64 * 48);
+    // Every sample at mid-shutter, and the timing model charged for the filter's reads.
+    for (const VisibilityRecord& r : post.visibility->records()) {
+        if (r.patch >= 0) {
+            EXPECT_EQ(r.time, 0.5f);
+        }
+    }
+    double postSamples = 0;
+    for (const PatchOps& p : post.patchOps) postSamples += p.ops[std::size_t(Op::PostSamples)];
+    EXPECT_EQ(postSamples, double(c.byName("PP/Pixels") + c.byName("PP/Gather samples")));
+}
+
+}  // namespace
+}  // namespace patchsim
