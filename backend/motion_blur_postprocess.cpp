@@ -44,12 +44,7 @@ struct Velocities {
 Velocities pixelVelocities(const ResolvedFrame& f, float k) {
     Velocities out{f.color.width, f.color.height, {}};
     out.v.resize(f.motionX.size());
-    for (std::size_t i = 0; i < out.v.size(); ++i) {
-        Vec2 v = 0.5f * Vec2(f.motionX[i], f.motionY[i]);
-        const float len = glm::length(v);
-        if (len > k) v *= k / len;
-        out.v[i] = v;
-    }
+    for (std::size_t i = 0; i < out.v.size(); ++i) out.v[i] = pixelVelocity(f, i, k);
     return out;
 }
 
@@ -85,6 +80,13 @@ std::vector<Vec2> neighbourMax(const Velocities& v, int k, int tilesX, int tiles
 
 }  // namespace
 
+Vec2 pixelVelocity(const ResolvedFrame& f, std::size_t i, float k) {
+    Vec2 v = 0.5f * Vec2(f.motionX[i], f.motionY[i]);
+    const float len = glm::length(v);
+    if (len > k) v *= k / len;
+    return v;
+}
+
 void PostprocessWork::flush() const {
     ppPixels += pixels;
     ppTiles += tiles;
@@ -93,7 +95,8 @@ void PostprocessWork::flush() const {
 }
 
 Image reconstructMotionBlur(const ResolvedFrame& sharp, float farDepth,
-                            const PostprocessOptions& o, PostprocessWork& work) {
+                            const PostprocessOptions& o, PostprocessWork& work,
+                            const RevealedBackground* revealed) {
     const int w = sharp.color.width, h = sharp.color.height, k = std::max(1, o.tileSize);
     const Velocities v = pixelVelocities(sharp, float(k));
     const int tilesX = (w + k - 1) / k, tilesY = (h + k - 1) / k;
@@ -110,8 +113,15 @@ Image reconstructMotionBlur(const ResolvedFrame& sharp, float farDepth,
             if (glm::length(n) <= 0.5f) continue;
             ++work.blurredPixels;
             const float vt = glm::length(v.at(x, y)), zt = depth(x, y);
+            const std::size_t target = std::size_t(y) * std::size_t(w) + std::size_t(x);
+            const bool behindKnown = revealed && revealed->found[target];
             float weight = 1.0f / std::max(vt, 1.0f);
             Vec3 sum = sharp.color.get(x, y) * weight;
+            // With a revealed background: the samples on the target's own object are its
+            // foreground, their share of the span its coverage, the rest the background behind it.
+            float ownWeight = weight;
+            Vec3 ownSum = sum;
+            int ownSamples = 1;
             const std::uint64_t hash = mix64(o.seed ^ mix64((std::uint64_t(x) << 32) | std::uint64_t(y)));
             const float jitter = float(hash >> 40) * (1.0f / 16777216.0f) - 0.5f;
             for (int i = 0; i < S; ++i) {
@@ -127,10 +137,23 @@ Image reconstructMotionBlur(const ResolvedFrame& sharp, float farDepth,
                 const float ws = cylinder(vs, s) * cylinder(vt, s) * 2.0f;
                 const float a = wf + wb + ws;
                 weight += a;
-                sum += a * sharp.color.get(sx, sy);
+                const Vec3 c = sharp.color.get(sx, sy);
+                sum += a * c;
+                if (behindKnown &&
+                    revealed->object[std::size_t(sy) * std::size_t(w) + std::size_t(sx)] ==
+                        revealed->object[target]) {
+                    ownWeight += a;
+                    ownSum += a * c;
+                    ++ownSamples;
+                }
                 ++work.gatherSamples;
             }
-            out.set(x, y, sum / weight);
+            if (!behindKnown) {
+                out.set(x, y, sum / weight);
+                continue;
+            }
+            const float coverage = float(ownSamples) / float(S);
+            out.set(x, y, coverage * ownSum / ownWeight + (1.0f - coverage) * revealed->color[target]);
         }
     }
     return out;

@@ -44,9 +44,23 @@ struct PostprocessWork {
     void flush() const;              // into the PP/ counters
 };
 
+// Background revealed behind a pixel by rays (the hybrid method): per pixel, its colour, whether
+// a ray found one, and the object the pixel shows (-1: none).
+struct RevealedBackground {
+    std::vector<Vec3> color;
+    std::vector<std::uint8_t> found;
+    std::vector<int> object;
+};
+
 // The blurred colour of `sharp` (same size). `farDepth` stands in for the depth of pixels with no
-// hit.
+// hit. With `revealed`, a target pixel whose background was revealed is composited as its own
+// object's samples (weighted as above) over that background, the object's share of the gathered
+// samples being its coverage over the exposure.
 Image reconstructMotionBlur(const ResolvedFrame& sharp, float farDepth,
-                            const PostprocessOptions& options, PostprocessWork& work);
+                            const PostprocessOptions& options, PostprocessWork& work,
+                            const RevealedBackground* revealed = nullptr);
+
+// Half the exposure's screen motion of pixel i, clamped to `k` pixels (the filter's velocity).
+Vec2 pixelVelocity(const ResolvedFrame& sharp, std::size_t i, float k);
 
 }  // namespace patchsim

@@ -121,7 +121,7 @@ int runTessellate(const CommonOptions& common, const std::string& output, float 
 }
 
 // The postprocess method's filter (backend/motion_blur_postprocess.h), for render and sweep.
-void addPostprocessOptions(CLI::App& cmd, PostprocessOptions& p) {
+void addPostprocessOptions(CLI::App& cmd, PostprocessOptions& p, float& edgeThreshold) {
     cmd.add_option("--pp-tile-size", p.tileSize,
                    "postprocess: TileMax tile size k in pixels (velocities are clamped to it)")
         ->check(CLI::Range(1, 1024))
@@ -134,6 +134,10 @@ void addPostprocessOptions(CLI::App& cmd, PostprocessOptions& p) {
                    "to behind (scene units)")
         ->check(CLI::Range(1e-6f, 1e6f))
         ->capture_default_str();
+    cmd.add_option("--edge-threshold", edgeThreshold,
+                   "hybrid: Sobel edge threshold e of the ray mask, in [0, 1)")
+        ->check(CLI::Range(0.0f, 0.999f))
+        ->capture_default_str();
 }
 
 struct RenderCommand {
@@ -142,6 +146,7 @@ struct RenderCommand {
     std::string method = "patch";
     int timeStrata = 4;
     PostprocessOptions postprocess;
+    float edgeThreshold = HybridOptions{}.edgeThreshold;
     // Rasterizer options given on the command line override the scene's, by their table key.
     std::map<std::string, std::string> rasterizer;
     bool noTimeRefinement = false, noZCulling = false, quiet = false;
@@ -161,7 +166,7 @@ void addRenderOptions(CLI::App& cmd, RenderCommand& r) {
         ->check(CLI::IsMember(methods));
     cmd.add_option("--time-strata", r.timeStrata, "Time strata of the interval method")
         ->check(CLI::Range(1, 64));
-    addPostprocessOptions(cmd, r.postprocess);
+    addPostprocessOptions(cmd, r.postprocess, r.edgeThreshold);
     for (const RasterizerOptionField& field : rasterizerOptionFields()) {
         cmd.add_option_function<std::string>(
             field.flag, [&r, key = field.key](const std::string& v) { r.rasterizer[key] = v; },
@@ -202,6 +207,7 @@ int runRender(const RenderCommand& r, const MpiContext& mpi) {
     parseVisibilityMethod(r.method, options.method);  // CLI11 checked the name
     options.timeStrata = r.timeStrata;
     options.postprocess = r.postprocess;
+    options.edgeThreshold = r.edgeThreshold;
     options.overrides = r.common.overrides;
     options.threads = mpi.threadsPerRank(r.common.threads);
     options.maxLayers = r.maxLayers;
@@ -356,11 +362,12 @@ int runExplore(const ExploreCommand& e, const MpiContext& mpi) {
 
 struct SweepCommand {
     std::vector<std::string> scenes;
-    std::string methods = "patch,triangle-bbox,interval,interleaved,postprocess", spp = "1,4,16,64",
+    std::string methods = "patch,triangle-bbox,interval,interleaved,postprocess,hybrid", spp = "1,4,16,64",
                 blur = "1",
                 output = "sweep", hardware;
     int repeats = 3, convergedSpp = 0, threads = 0, timeStrata = 4;
     PostprocessOptions postprocess;
+    float edgeThreshold = HybridOptions{}.edgeThreshold;
     std::uint64_t memoryBudgetMiB = 4096;
     bool noProgress = false;
 };
@@ -404,6 +411,7 @@ int runSweepCommand(const SweepCommand& c) {
     o.render.threads = c.threads;
     o.render.timeStrata = c.timeStrata;
     o.render.postprocess = c.postprocess;
+    o.render.edgeThreshold = c.edgeThreshold;
     o.hardware = c.hardware.empty() ? defaultHardwareConfig() : readHardwareConfig(c.hardware);
     o.limits = limitsOf(c.memoryBudgetMiB);
     o.outputDir = c.output;
@@ -587,7 +595,7 @@ int main(int argc, char** argv) {
         ->check(CLI::Range(0, 1 << 20));
     sweep->add_option("--time-strata", sweepOptions.timeStrata, "K of the interval method")
         ->check(CLI::Range(1, 64));
-    addPostprocessOptions(*sweep, sweepOptions.postprocess);
+    addPostprocessOptions(*sweep, sweepOptions.postprocess, sweepOptions.edgeThreshold);
     sweep->add_option("--threads", sweepOptions.threads, "Worker threads (0: all cores)")
         ->check(kThreadCount);
     sweep->add_option("--hw", sweepOptions.hardware, "Hardware configuration for modelled cycles");

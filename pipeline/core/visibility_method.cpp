@@ -17,6 +17,9 @@ const std::vector<VisibilityMethodInfo>& visibilityMethods() {
         {VisibilityMethod::Postprocess, "postprocess", false,
          "McGuire et al. 2012 reconstruction filter on a mid-shutter pinhole frame (weights as in "
          "Tan et al. 2022)"},
+        {VisibilityMethod::Hybrid, "hybrid", false,
+         "Tan et al. 2022: the post-process plus a ray mask and rays that reveal the background "
+         "behind moving edges"},
     };
     return methods;
 }

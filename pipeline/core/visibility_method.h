@@ -15,7 +15,8 @@ enum class VisibilityMethod : std::uint8_t {
     TriangleBBox,
     Interval,
     Interleaved,
-    Postprocess
+    Postprocess,
+    Hybrid
 };
 
 struct VisibilityMethodInfo {

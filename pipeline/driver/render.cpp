@@ -122,9 +122,14 @@ bool isBoundingMethod(VisibilityMethod m) {
            m == VisibilityMethod::Interleaved;
 }
 
-// The post-process renders its sharp frame with the patch rasterizer.
+// The image-space methods start from one sharp frame at mid-shutter through a pinhole.
+bool startsFromSharpFrame(VisibilityMethod m) {
+    return m == VisibilityMethod::Postprocess || m == VisibilityMethod::Hybrid;
+}
+
+// ... which the patch rasterizer renders.
 bool usesPatchRasterizer(VisibilityMethod m) {
-    return m == VisibilityMethod::Patch || m == VisibilityMethod::Postprocess;
+    return m == VisibilityMethod::Patch || startsFromSharpFrame(m);
 }
 
 // Reference rows are dealt in this many horizontal bands, like the patch method's row classes.
@@ -259,7 +264,7 @@ RenderResult renderScene(const SceneDesc& scene, const RenderOptions& options) {
     start = std::chrono::steady_clock::now();
     // The interleaved method is an accumulation buffer: its samples repeat in every pixel. The
     // post-process starts from a sharp frame: every sample at mid-shutter, through a pinhole.
-    const bool postprocess = options.method == VisibilityMethod::Postprocess;
+    const bool postprocess = startsFromSharpFrame(options.method);
     Effects sampled = result.effects, rasterized = result.effects;
     if (postprocess) {
         sampled.motion = sampled.shadingVaries = sampled.defocus = false;
@@ -331,11 +336,18 @@ RenderResult renderScene(const SceneDesc& scene, const RenderOptions& options) {
                                     options.resolve, workers, &progress);
     }
     PostprocessWork post;
+    HybridWork hybrid;
     if (postprocess && result.effects.motion) {
         PostprocessOptions o = options.postprocess;
         o.seed = scene.film.seed;
-        result.frame.color = reconstructMotionBlur(result.frame, camera.farPlane(), o, post);
+        if (options.method == VisibilityMethod::Hybrid)
+            result.frame.color =
+                hybridMotionBlur(context, result.frame, *result.visibility,
+                                 {o, options.edgeThreshold}, post, hybrid);
+        else
+            result.frame.color = reconstructMotionBlur(result.frame, camera.farPlane(), o, post);
         post.flush();
+        hybrid.flush();
     }
     result.shadingSeconds = secondsSince(start);
     result.patchOps = collectPatchOps(
@@ -348,10 +360,14 @@ RenderResult renderScene(const SceneDesc& scene, const RenderOptions& options) {
                 result.patchOps[i].ops[std::size_t(op)] += visibilityOps[i].ops[std::size_t(op)];
     for (std::size_t i = 0; i < result.patches; ++i)
         result.patchOps[i].hierarchyBytes = visibilityOps[i].hierarchyBytes;
-    // The post-process passes run once the last patch is shaded.
-    if (!result.patchOps.empty())
-        result.patchOps.back().ops[std::size_t(Op::PostSamples)] +=
-            double(post.pixels + post.gatherSamples);
+    // The post-process passes and the hybrid's rays run once the last patch is shaded.
+    if (!result.patchOps.empty()) {
+        auto& last = result.patchOps.back().ops;
+        last[std::size_t(Op::PostSamples)] +=
+            double(post.pixels + post.gatherSamples + hybrid.maskReads);
+        last[std::size_t(Op::RayBoxTests)] += double(hybrid.rayBoxTests);
+        last[std::size_t(Op::RayTriangleTests)] += double(hybrid.rayTriangleTests);
+    }
     return result;
 }
 

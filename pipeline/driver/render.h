@@ -15,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include "backend/hybrid_motion_blur.h"
 #include "backend/motion_blur_postprocess.h"
 #include "backend/resolve.h"
 #include "pipeline/core/effects.h"
@@ -48,7 +49,8 @@ struct RenderOptions {
     int threads = 0;
     int maxLayers = 16;  // transparent t-fragments kept per sample
     int timeStrata = 4;  // the interval method's K
-    PostprocessOptions postprocess;  // the postprocess method's filter
+    PostprocessOptions postprocess;  // the postprocess and hybrid methods' filter
+    float edgeThreshold = HybridOptions{}.edgeThreshold;  // the hybrid method's ray mask: Sobel edge threshold e
     ResolveOptions resolve;
     bool heatMaps = false;             // collect per-pixel work
     bool progress = false;             // progress bar (when standard error is a terminal)

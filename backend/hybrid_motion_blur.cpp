@@ -1,0 +1,257 @@
+#include "backend/hybrid_motion_blur.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "pipeline/core/counters.h"
+#include "pipeline/core/ray.h"
+#include "rasterizer/patch_hierarchy.h"
+#include "rasterizer/watertight_triangle.h"
+#include "tessellator/front_end.h"
+
+namespace patchsim {
+
+namespace {
+
+const Counter hyCandidates{"HY/Mask candidates", "pixels",
+                           "Moving pixels whose motion uncovers a deeper, different object"};
+const Counter hyEdges{"HY/Edge pixels", "pixels", "Candidates above the Sobel edge threshold"};
+const Counter hyMasked{"HY/Masked pixels", "pixels",
+                       "Pixels in the ray mask (an edge within their velocity's reach)"};
+const Counter hyMaskReads{"HY/Mask reads", "pixels", "Pixels read by the three mask passes"};
+const Counter hyRays{"HY/Rays", "rays", "Ray-reveal rays: the first and the second per masked pixel"};
+const Counter hyBoxTests{"HY/Ray-box tests", "tests", "Second rays against a patch's box"};
+const Counter hyTriangleTests{"HY/Ray-triangle tests", "tests",
+                              "Second rays against triangles (watertight test, mid-shutter)"};
+const Counter hyRevealed{"HY/Revealed pixels", "pixels",
+                         "Masked pixels whose second ray found another object behind"};
+
+// Per pixel, from its first sample: the object it shows (-1: none) and its camera-space normal.
+struct GBuffer {
+    int width = 0, height = 0;
+    std::vector<int> object;
+    std::vector<Vec3> normal;
+    std::vector<float> depth;  // far plane where nothing is hit
+    std::size_t index(int x, int y) const {
+        return std::size_t(y) * std::size_t(width) + std::size_t(x);
+    }
+};
+
+GBuffer gBuffer(const ShadingContext& c, const ResolvedFrame& sharp, const VisibilityBuffer& vis) {
+    GBuffer g{vis.width(), vis.height(), {}, {}, {}};
+    const std::size_t n = std::size_t(g.width) * std::size_t(g.height);
+    g.object.assign(n, -1);
+    g.normal.assign(n, Vec3(0));
+    g.depth.assign(n, c.camera->farPlane());
+    const Mat4 view = c.camera->worldToCameraAt(0.5f);
+    for (int y = 0; y < g.height; ++y) {
+        for (int x = 0; x < g.width; ++x) {
+            const VisibilityRecord& r = vis.at(x, y, 0);
+            const std::size_t i = g.index(x, y);
+            if (sharp.depth[i] > 0) g.depth[i] = sharp.depth[i];
+            if (!r.hit()) continue;
+            g.object[i] = (*c.patches)[std::size_t(r.patch)].object;
+            const Vec3 normal = Vec3(view * Vec4(interpolateAttributes(c, r).normal, 0.0f));
+            const float len = glm::length(normal);
+            g.normal[i] = len > 0 ? normal / len : Vec3(0);
+        }
+    }
+    return g;
+}
+
+// Step 2's x_n at pixel (x, y): 5x5 Sobel of depth (relative) and of the normals.
+float edgeMeasure(const GBuffer& g, int x, int y) {
+    constexpr float smooth[5] = {1, 4, 6, 4, 1}, derive[5] = {-1, -2, 0, 2, 1};
+    float dzx = 0, dzy = 0;
+    Vec3 dnx(0), dny(0);
+    for (int j = -2; j <= 2; ++j) {
+        for (int i = -2; i <= 2; ++i) {
+            const std::size_t k = g.index(std::clamp(x + i, 0, g.width - 1),
+                                          std::clamp(y + j, 0, g.height - 1));
+            const float wx = derive[i + 2] * smooth[j + 2], wy = smooth[i + 2] * derive[j + 2];
+            dzx += wx * g.depth[k];
+            dzy += wy * g.depth[k];
+            dnx += wx * g.normal[k];
+            dny += wy * g.normal[k];
+        }
+    }
+    constexpr float kNorm = 1.0f / 48.0f;  // the positive weights of one kernel
+    const float dd = std::sqrt(dzx * dzx + dzy * dzy) * kNorm / g.depth[g.index(x, y)];
+    const float dn = std::sqrt(glm::dot(dnx, dnx) + glm::dot(dny, dny)) * kNorm;
+    const float xs = dd + dn;
+    return std::clamp(1.0f - 1.0f / (xs + 1.0f), 0.0f, 1.0f);
+}
+
+std::vector<std::uint8_t> rayMask(const ResolvedFrame& sharp, const GBuffer& g,
+                                  const HybridOptions& o, HybridWork& work) {
+    const int w = g.width, h = g.height;
+    const float k = float(std::max(1, o.post.tileSize));
+    std::vector<std::uint8_t> edge(std::size_t(w) * std::size_t(h), 0), mask(edge.size(), 0);
+    for (int y = 0; y < h; ++y) {
+        for (int x = 0; x < w; ++x) {
+            const std::size_t i = g.index(x, y);
+            const Vec2 motion(sharp.motionX[i], sharp.motionY[i]);
+            if (g.object[i] < 0 || glm::length(motion) <= 0.5f) continue;
+            const int nx = std::clamp(int(std::lround(float(x) + motion.x)), 0, w - 1);
+            const int ny = std::clamp(int(std::lround(float(y) + motion.y)), 0, h - 1);
+            const std::size_t next = g.index(nx, ny);
+            ++work.maskReads;
+            if (g.object[next] == g.object[i] || !(g.depth[next] - g.depth[i] > o.post.softZExtent))
+                continue;
+            ++work.candidates;
+            work.maskReads += 25;
+            if (edgeMeasure(g, x, y) <= o.edgeThreshold) continue;
+            ++work.edgePixels;
+            edge[i] = 1;
+        }
+    }
+    const int S = std::max(3, o.post.samples | 1);
+    for (int y = 0; y < h; ++y) {
+        for (int x = 0; x < w; ++x) {
+            const std::size_t i = g.index(x, y);
+            const Vec2 v = pixelVelocity(sharp, i, k);
+            if (glm::length(v) <= 0.25f) continue;
+            for (int s = 0; s < S && !mask[i]; ++s) {
+                const float t = -1.0f + 2.0f * float(s) / float(S - 1);
+                const int sx = std::clamp(int(std::lround(float(x) + v.x * t)), 0, w - 1);
+                const int sy = std::clamp(int(std::lround(float(y) + v.y * t)), 0, h - 1);
+                ++work.maskReads;
+                mask[i] = edge[g.index(sx, sy)];
+            }
+            work.maskedPixels += mask[i];
+        }
+    }
+    return mask;
+}
+
+bool rayHitsBox(const Ray& r, const Box3& b, float lambdaMin, float lambdaMax) {
+    float lo = lambdaMin, hi = lambdaMax;
+    for (int k = 0; k < 3; ++k) {
+        if (r.direction[k] == 0.0f) {
+            if (r.origin[k] < b.lower[k] || r.origin[k] > b.upper[k]) return false;
+            continue;
+        }
+        const float inv = 1.0f / r.direction[k];
+        float a = (b.lower[k] - r.origin[k]) * inv, c = (b.upper[k] - r.origin[k]) * inv;
+        if (a > c) std::swap(a, c);
+        lo = std::max(lo, a - 1e-5f * std::abs(a));
+        hi = std::min(hi, c + 1e-5f * std::abs(c));
+    }
+    return lo <= hi;
+}
+
+// The frame's opaque patches for second rays at mid-shutter: per patch its groups' hierarchies
+// (as the patch rasterizer builds them), walked with boxes blended to t = 0.5.
+struct RevealScene {
+    struct Group {
+        std::size_t mesh;
+        PatchHierarchy hierarchy;
+    };
+    std::vector<Group> groups;
+
+    explicit RevealScene(const std::vector<MovingMesh>& meshes) {
+        std::vector<std::uint32_t> order, begin;
+        for (std::size_t m = 0; m < meshes.size(); ++m) {
+            if (!meshes[m].opaque || meshes[m].triangleCount() == 0) continue;
+            splitIntoGroups(meshes[m], 256, order, begin);
+            for (std::size_t g = 0; g + 1 < begin.size(); ++g) {
+                if (begin[g] == begin[g + 1]) continue;
+                groups.push_back({m, {}});
+                groups.back().hierarchy.build(meshes[m], order.data() + begin[g],
+                                              begin[g + 1] - begin[g], 4);
+            }
+        }
+    }
+
+    // The nearest hit of `ray` on an object other than `skipObject`.
+    VisibilityRecord trace(const std::vector<MovingMesh>& meshes, Ray& ray, int skipObject,
+                           HybridWork& work) const {
+        const ShearedRay sheared = shearRay(ray);
+        VisibilityRecord best;
+        for (const Group& g : groups) {
+            const MovingMesh& m = meshes[g.mesh];
+            if (m.objectId == skipObject) continue;
+            const PatchHierarchy& h = g.hierarchy;
+            int stack[2 * kMaxLeavesPerHierarchy];
+            int top = 0;
+            stack[top++] = 0;
+            while (top > 0) {
+                const int node = stack[--top];
+                ++work.rayBoxTests;
+                if (!rayHitsBox(ray, h.node(node).at(0.5f), ray.lambdaMin, ray.lambdaMax)) continue;
+                if (!h.isLeaf(node)) {
+                    stack[top++] = 2 * node + 2;
+                    stack[top++] = 2 * node + 1;
+                    continue;
+                }
+                std::size_t count;
+                const std::uint32_t* tris =
+                    h.leafTriangles(node - PatchHierarchy::firstLeaf(h.depth()), count);
+                for (std::size_t k = 0; k < count; ++k) {
+                    const std::uint32_t t = tris[k];
+                    const std::uint32_t* v = &m.indices[3 * std::size_t(t)];
+                    ++work.rayTriangleTests;
+                    TriangleHit hit;
+                    if (!intersectTriangle(sheared, m.vertexAt(v[0], 0.5f), m.vertexAt(v[1], 0.5f),
+                                           m.vertexAt(v[2], 0.5f), ray.lambdaMin, ray.lambdaMax,
+                                           hit))
+                        continue;
+                    const VisibilityRecord r{hit.lambda * ray.depthPerLambda,
+                                             m.patchOf(t),
+                                             m.triangleInPatchOf(t),
+                                             hit.b1,
+                                             hit.b2,
+                                             0.5f,
+                                             Vec2(0.5f)};
+                    if (r.nearerThan(best)) best = r;
+                    ray.lambdaMax = hit.lambda;
+                }
+            }
+        }
+        return best;
+    }
+};
+
+}  // namespace
+
+void HybridWork::flush() const {
+    hyCandidates += candidates;
+    hyEdges += edgePixels;
+    hyMasked += maskedPixels;
+    hyMaskReads += maskReads;
+    hyRays += rays;
+    hyBoxTests += rayBoxTests;
+    hyTriangleTests += rayTriangleTests;
+    hyRevealed += revealed;
+}
+
+Image hybridMotionBlur(const ShadingContext& c, const ResolvedFrame& sharp,
+                       const VisibilityBuffer& vis, const HybridOptions& o, PostprocessWork& post,
+                       HybridWork& work) {
+    const GBuffer g = gBuffer(c, sharp, vis);
+    const std::vector<std::uint8_t> mask = rayMask(sharp, g, o, work);
+    const RevealScene scene(*c.meshes);
+    RevealedBackground revealed{std::vector<Vec3>(mask.size(), kBackground),
+                                std::vector<std::uint8_t>(mask.size(), 0), g.object};
+    const Camera& camera = *c.camera;
+    for (int y = 0; y < g.height; ++y) {
+        for (int x = 0; x < g.width; ++x) {
+            const std::size_t i = g.index(x, y);
+            if (!mask[i]) continue;
+            // The first ray's hit is the sharp frame's; the second starts just behind it.
+            work.rays += 2;
+            Ray ray = makeCameraRay(
+                camera, rasterToScreen(camera, {float(x) + 0.5f, float(y) + 0.5f}), Vec2(0),
+                0.5f, LensModel{});
+            ray.lambdaMin = std::max(ray.lambdaMin, g.depth[i] / ray.depthPerLambda);
+            const VisibilityRecord behind = scene.trace(*c.meshes, ray, g.object[i], work);
+            if (!behind.hit()) continue;
+            ++work.revealed;
+            revealed.found[i] = 1;
+            revealed.color[i] = shadeFragment(c, interpolateAttributes(c, behind), 0.5f);
+        }
+    }
+    return reconstructMotionBlur(sharp, camera.farPlane(), o.post, post, &revealed);
+}
+
+}  // namespace patchsim

@@ -1,0 +1,53 @@
+#pragma once
+// Hybrid motion blur (Tan, Cui, Bhojan 2022, ../shared/seeds/tan2022-hybrid-mblur.md): the
+// post-process of motion_blur_postprocess, plus rays that reveal the background the sharp frame
+// hides behind moving objects: the `hybrid` visibility method.
+//
+// Ray mask, on the mid-shutter pinhole frame (its colour, depth, motion, and per pixel the object
+// and camera-space normal of its first sample):
+//   1. a moving pixel is a candidate when the pixel at its position plus its exposure's motion
+//      shows another object (m_n != m_t) deeper by more than SOFT_Z_EXTENT (z_n - z_t > extent):
+//      it is a foreground edge the motion uncovers;
+//   2. a candidate is an edge when x_n = saturate(1 - 1 / (x + 1)) exceeds the threshold e, where
+//      x = delta_d + delta_n, the 5x5 Sobel gradient of depth (relative to the pixel's depth) and
+//      the Frobenius norm of the normals' Sobel gradient;
+//   3. range check: a moving pixel is masked when one of S samples along its velocity (the
+//      gather's span) is an edge.
+// Ray reveal: for each masked pixel, a ray through its centre at mid-shutter, and a second ray
+// after the first hit, to the nearest surface of a different object behind it (one background
+// layer), shaded at mid-shutter. The gather then takes a masked pixel's background contributions
+// from that colour instead of from its neighbours.
+
+#include <cstdint>
+
+#include "backend/motion_blur_postprocess.h"
+#include "backend/resolve.h"
+#include "backend/t_fragment.h"
+#include "rasterizer/visibility_buffer.h"
+
+namespace patchsim {
+
+struct HybridOptions {
+    PostprocessOptions post;
+    float edgeThreshold = 0.2f;  // e, on x_n in [0, 1)
+};
+
+// What the hybrid did beyond the post-process (counters HY/*).
+struct HybridWork {
+    std::int64_t candidates = 0;        // step 1
+    std::int64_t edgePixels = 0;        // step 2
+    std::int64_t maskedPixels = 0;      // step 3: rays are shot for these
+    std::int64_t maskReads = 0;         // pixels read by the three mask passes
+    std::int64_t rays = 0;              // first and second rays
+    std::int64_t rayBoxTests = 0;       // second rays against patch boxes
+    std::int64_t rayTriangleTests = 0;  // second rays against triangles
+    std::int64_t revealed = 0;          // masked pixels whose second ray found a background
+    void flush() const;
+};
+
+// `sharp` is the resolved mid-shutter frame, `visibility` its samples.
+Image hybridMotionBlur(const ShadingContext& context, const ResolvedFrame& sharp,
+                       const VisibilityBuffer& visibility, const HybridOptions& options,
+                       PostprocessWork& post, HybridWork& work);
+
+}  // namespace patchsim
