@@ -121,7 +121,8 @@ int runTessellate(const CommonOptions& common, const std::string& output, float 
 }
 
 // The postprocess method's filter (backend/motion_blur_postprocess.h), for render and sweep.
-void addPostprocessOptions(CLI::App& cmd, PostprocessOptions& p, float& edgeThreshold) {
+void addPostprocessOptions(CLI::App& cmd, PostprocessOptions& p, float& edgeThreshold,
+                           ReprojectionOptions& reprojection) {
     cmd.add_option("--pp-tile-size", p.tileSize,
                    "postprocess: TileMax tile size k in pixels (velocities are clamped to it)")
         ->check(CLI::Range(1, 1024))
@@ -138,6 +139,10 @@ void addPostprocessOptions(CLI::App& cmd, PostprocessOptions& p, float& edgeThre
                    "hybrid: Sobel edge threshold e of the ray mask, in [0, 1)")
         ->check(CLI::Range(0.0f, 0.999f))
         ->capture_default_str();
+    cmd.add_option("--camera-steps", reprojection.cameraSteps,
+                   "reprojection: interpolated cameras per reprojection cycle")
+        ->check(CLI::Range(2, 1024))
+        ->capture_default_str();
 }
 
 struct RenderCommand {
@@ -147,6 +152,7 @@ struct RenderCommand {
     int timeStrata = 4;
     PostprocessOptions postprocess;
     float edgeThreshold = HybridOptions{}.edgeThreshold;
+    ReprojectionOptions reprojection;
     // Rasterizer options given on the command line override the scene's, by their table key.
     std::map<std::string, std::string> rasterizer;
     bool noTimeRefinement = false, noZCulling = false, quiet = false;
@@ -166,7 +172,7 @@ void addRenderOptions(CLI::App& cmd, RenderCommand& r) {
         ->check(CLI::IsMember(methods));
     cmd.add_option("--time-strata", r.timeStrata, "Time strata of the interval method")
         ->check(CLI::Range(1, 64));
-    addPostprocessOptions(cmd, r.postprocess, r.edgeThreshold);
+    addPostprocessOptions(cmd, r.postprocess, r.edgeThreshold, r.reprojection);
     for (const RasterizerOptionField& field : rasterizerOptionFields()) {
         cmd.add_option_function<std::string>(
             field.flag, [&r, key = field.key](const std::string& v) { r.rasterizer[key] = v; },
@@ -208,6 +214,7 @@ int runRender(const RenderCommand& r, const MpiContext& mpi) {
     options.timeStrata = r.timeStrata;
     options.postprocess = r.postprocess;
     options.edgeThreshold = r.edgeThreshold;
+    options.reprojection = r.reprojection;
     options.overrides = r.common.overrides;
     options.threads = mpi.threadsPerRank(r.common.threads);
     options.maxLayers = r.maxLayers;
@@ -362,12 +369,14 @@ int runExplore(const ExploreCommand& e, const MpiContext& mpi) {
 
 struct SweepCommand {
     std::vector<std::string> scenes;
-    std::string methods = "patch,triangle-bbox,interval,interleaved,postprocess,hybrid", spp = "1,4,16,64",
+    std::string methods = "patch,triangle-bbox,interval,interleaved,postprocess,hybrid,reprojection",
+                spp = "1,4,16,64",
                 blur = "1",
                 output = "sweep", hardware;
     int repeats = 3, convergedSpp = 0, threads = 0, timeStrata = 4;
     PostprocessOptions postprocess;
     float edgeThreshold = HybridOptions{}.edgeThreshold;
+    ReprojectionOptions reprojection;
     std::uint64_t memoryBudgetMiB = 4096;
     bool noProgress = false;
 };
@@ -412,6 +421,7 @@ int runSweepCommand(const SweepCommand& c) {
     o.render.timeStrata = c.timeStrata;
     o.render.postprocess = c.postprocess;
     o.render.edgeThreshold = c.edgeThreshold;
+    o.render.reprojection = c.reprojection;
     o.hardware = c.hardware.empty() ? defaultHardwareConfig() : readHardwareConfig(c.hardware);
     o.limits = limitsOf(c.memoryBudgetMiB);
     o.outputDir = c.output;
@@ -595,7 +605,8 @@ int main(int argc, char** argv) {
         ->check(CLI::Range(0, 1 << 20));
     sweep->add_option("--time-strata", sweepOptions.timeStrata, "K of the interval method")
         ->check(CLI::Range(1, 64));
-    addPostprocessOptions(*sweep, sweepOptions.postprocess, sweepOptions.edgeThreshold);
+    addPostprocessOptions(*sweep, sweepOptions.postprocess, sweepOptions.edgeThreshold,
+                          sweepOptions.reprojection);
     sweep->add_option("--threads", sweepOptions.threads, "Worker threads (0: all cores)")
         ->check(kThreadCount);
     sweep->add_option("--hw", sweepOptions.hardware, "Hardware configuration for modelled cycles");

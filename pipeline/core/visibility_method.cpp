@@ -20,6 +20,9 @@ const std::vector<VisibilityMethodInfo>& visibilityMethods() {
         {VisibilityMethod::Hybrid, "hybrid", false,
          "Tan et al. 2022: the post-process plus a ray mask and rays that reveal the background "
          "behind moving edges"},
+        {VisibilityMethod::Reprojection, "reprojection", false,
+         "Taylor: the samples of sharp frames at shutter open and close reprojected into cameras "
+         "across the shutter (camera motion)"},
     };
     return methods;
 }

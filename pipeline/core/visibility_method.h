@@ -16,7 +16,8 @@ enum class VisibilityMethod : std::uint8_t {
     Interval,
     Interleaved,
     Postprocess,
-    Hybrid
+    Hybrid,
+    Reprojection
 };
 
 struct VisibilityMethodInfo {

@@ -123,8 +123,10 @@ bool isBoundingMethod(VisibilityMethod m) {
 }
 
 // The image-space methods start from one sharp frame at mid-shutter through a pinhole.
+// (reprojection: two, at shutter open and close).
 bool startsFromSharpFrame(VisibilityMethod m) {
-    return m == VisibilityMethod::Postprocess || m == VisibilityMethod::Hybrid;
+    return m == VisibilityMethod::Postprocess || m == VisibilityMethod::Hybrid ||
+           m == VisibilityMethod::Reprojection;
 }
 
 // ... which the patch rasterizer renders.
@@ -265,6 +267,7 @@ RenderResult renderScene(const SceneDesc& scene, const RenderOptions& options) {
     // The interleaved method is an accumulation buffer: its samples repeat in every pixel. The
     // post-process starts from a sharp frame: every sample at mid-shutter, through a pinhole.
     const bool postprocess = startsFromSharpFrame(options.method);
+    const bool reprojection = options.method == VisibilityMethod::Reprojection;
     Effects sampled = result.effects, rasterized = result.effects;
     if (postprocess) {
         sampled.motion = sampled.shadingVaries = sampled.defocus = false;
@@ -274,7 +277,7 @@ RenderResult renderScene(const SceneDesc& scene, const RenderOptions& options) {
                                   options.method == VisibilityMethod::Interleaved
                                       ? SamplePattern::Interleaved
                                       : scene.film.sampler,
-                                  postprocess ? 0.5f : 0.0f);
+                                  postprocess && !reprojection ? 0.5f : 0.0f);
     result.visibility = std::make_unique<VisibilityBuffer>(
         scene.film.width, scene.film.height, scene.film.samplesPerPixel, camera.farPlane());
     if (result.effects.transparency)
@@ -308,6 +311,23 @@ RenderResult renderScene(const SceneDesc& scene, const RenderOptions& options) {
             CounterRegistry::instance().merge(counts);
         }
     }
+    // The reprojection's second sharp frame, at shutter close (on every rank, in full).
+    const SampleGenerator closeSamples(scene.film.seed, scene.film.samplesPerPixel, sampled,
+                                       scene.film.sampler, 1.0f);
+    std::unique_ptr<VisibilityBuffer> closeFrame;
+    if (reprojection) {
+        closeFrame = std::make_unique<VisibilityBuffer>(
+            scene.film.width, scene.film.height, scene.film.samplesPerPixel, camera.farPlane());
+        RenderOptions whole = options;
+        whole.share = {};
+        Visibility second = runVisibility(scene, whole, fe, camera, closeSamples, rasterized,
+                                          {closeFrame.get(), nullptr, nullptr, 0}, workers);
+        for (const RasterWork& w : second.tiles) w.flush();
+        for (std::size_t i = 0; i < result.patches; ++i) {
+            visibility.hierarchies[i].add(second.hierarchies[i]);
+            visibility.tiles[i].add(second.tiles[i]);
+        }
+    }
     std::vector<PatchOps> visibilityOps(result.patches);
     for (std::size_t i = 0; i < result.patches; ++i) {
         if (usesPatchRasterizer(options.method)) {
@@ -337,7 +357,19 @@ RenderResult renderScene(const SceneDesc& scene, const RenderOptions& options) {
     }
     PostprocessWork post;
     HybridWork hybrid;
-    if (postprocess && result.effects.motion) {
+    ReprojectionWork reprojected;
+    if (reprojection && result.effects.motion) {
+        const std::vector<float> openColors = shadeSamples(
+            context, *result.visibility, nullptr, options.resolve.shadingRate, workers);
+        const std::vector<float> closeColors =
+            shadeSamples(context, *closeFrame, nullptr, options.resolve.shadingRate, workers);
+        const Image closePixels = filterSamples(closeColors, *closeFrame, closeSamples, options.resolve);
+        result.frame.color = reprojectSamples(
+            context, {result.visibility.get(), &openColors, &samples, 0.0f},
+            {closeFrame.get(), &closeColors, &closeSamples, 1.0f}, result.frame.color, closePixels,
+            options.reprojection, reprojected);
+        reprojected.flush();
+    } else if (postprocess && result.effects.motion) {
         PostprocessOptions o = options.postprocess;
         o.seed = scene.film.seed;
         if (options.method == VisibilityMethod::Hybrid)
@@ -363,8 +395,8 @@ RenderResult renderScene(const SceneDesc& scene, const RenderOptions& options) {
     // The post-process passes and the hybrid's rays run once the last patch is shaded.
     if (!result.patchOps.empty()) {
         auto& last = result.patchOps.back().ops;
-        last[std::size_t(Op::PostSamples)] +=
-            double(post.pixels + post.gatherSamples + hybrid.maskReads);
+        last[std::size_t(Op::PostSamples)] += double(post.pixels + post.gatherSamples +
+                                                     hybrid.maskReads + reprojected.reprojections);
         last[std::size_t(Op::RayBoxTests)] += double(hybrid.rayBoxTests);
         last[std::size_t(Op::RayTriangleTests)] += double(hybrid.rayTriangleTests);
     }

@@ -18,6 +18,7 @@
 #include "backend/hybrid_motion_blur.h"
 #include "backend/motion_blur_postprocess.h"
 #include "backend/resolve.h"
+#include "backend/sample_reprojection.h"
 #include "pipeline/core/effects.h"
 #include "pipeline/core/progress.h"
 #include "pipeline/core/rasterizer_options.h"
@@ -50,7 +51,8 @@ struct RenderOptions {
     int maxLayers = 16;  // transparent t-fragments kept per sample
     int timeStrata = 4;  // the interval method's K
     PostprocessOptions postprocess;  // the postprocess and hybrid methods' filter
-    float edgeThreshold = HybridOptions{}.edgeThreshold;  // the hybrid method's ray mask: Sobel edge threshold e
+    float edgeThreshold = HybridOptions{}.edgeThreshold;  // the hybrid's ray mask: threshold e
+    ReprojectionOptions reprojection;                     // the reprojection method's cameras
     ResolveOptions resolve;
     bool heatMaps = false;             // collect per-pixel work
     bool progress = false;             // progress bar (when standard error is a terminal)
