@@ -275,7 +275,8 @@ TEST(FrontEnd, EffectsOfEveryShippedScene) {
         {"default.json", {true, true, false}},     {"motion_defocus.json", {true, true, false}},
         {"static.json", {false, false, false}},    {"motion.json", {true, false, false}},
         {"defocus.json", {false, true, false}},    {"transparency.json", {true, false, true}},
-        {"ngons_loop.json", {false, false, false}}};
+        {"ngons_loop.json", {false, false, false}}, {"hybrid.json", {true, false, false}},
+        {"camera_pan.json", {true, false, false}}};
     for (const std::string& path : test::sceneFiles()) {
         const std::string name = std::filesystem::path(path).filename().string();
         const FrontEnd fe(readSceneFile(path));
