@@ -122,7 +122,7 @@ int runTessellate(const CommonOptions& common, const std::string& output, float 
 
 // The postprocess method's filter (backend/motion_blur_postprocess.h), for render and sweep.
 void addPostprocessOptions(CLI::App& cmd, PostprocessOptions& p, float& edgeThreshold,
-                           ReprojectionOptions& reprojection) {
+                           ReprojectionOptions& reprojection, TFragmentOptions& tfragment) {
     cmd.add_option("--pp-tile-size", p.tileSize,
                    "postprocess: TileMax tile size k in pixels (velocities are clamped to it)")
         ->check(CLI::Range(1, 1024))
@@ -143,6 +143,10 @@ void addPostprocessOptions(CLI::App& cmd, PostprocessOptions& p, float& edgeThre
                    "reprojection: interpolated cameras per reprojection cycle")
         ->check(CLI::Range(2, 1024))
         ->capture_default_str();
+    cmd.add_option("--motion-samples", tfragment.motionSamples,
+                   "tfragment: time samples per lens ray (the paper's 4 and 32)")
+        ->check(CLI::Range(1, 256))
+        ->capture_default_str();
 }
 
 struct RenderCommand {
@@ -153,6 +157,8 @@ struct RenderCommand {
     PostprocessOptions postprocess;
     float edgeThreshold = HybridOptions{}.edgeThreshold;
     ReprojectionOptions reprojection;
+    TFragmentOptions tfragment;
+    bool timeSampled = false;
     // Rasterizer options given on the command line override the scene's, by their table key.
     std::map<std::string, std::string> rasterizer;
     bool noTimeRefinement = false, noZCulling = false, quiet = false;
@@ -172,7 +178,10 @@ void addRenderOptions(CLI::App& cmd, RenderCommand& r) {
         ->check(CLI::IsMember(methods));
     cmd.add_option("--time-strata", r.timeStrata, "Time strata of the interval method")
         ->check(CLI::Range(1, 64));
-    addPostprocessOptions(cmd, r.postprocess, r.edgeThreshold, r.reprojection);
+    addPostprocessOptions(cmd, r.postprocess, r.edgeThreshold, r.reprojection, r.tfragment);
+    cmd.add_flag("--time-sampled", r.timeSampled,
+                 "tfragment: trace once per motion sample instead of once per lens ray (the "
+                 "paper's comparison)");
     for (const RasterizerOptionField& field : rasterizerOptionFields()) {
         cmd.add_option_function<std::string>(
             field.flag, [&r, key = field.key](const std::string& v) { r.rasterizer[key] = v; },
@@ -215,6 +224,8 @@ int runRender(const RenderCommand& r, const MpiContext& mpi) {
     options.postprocess = r.postprocess;
     options.edgeThreshold = r.edgeThreshold;
     options.reprojection = r.reprojection;
+    options.tfragment = r.tfragment;
+    options.tfragmentTimeSampled = r.timeSampled;
     options.overrides = r.common.overrides;
     options.threads = mpi.threadsPerRank(r.common.threads);
     options.maxLayers = r.maxLayers;
@@ -369,7 +380,8 @@ int runExplore(const ExploreCommand& e, const MpiContext& mpi) {
 
 struct SweepCommand {
     std::vector<std::string> scenes;
-    std::string methods = "patch,triangle-bbox,interval,interleaved,postprocess,hybrid,reprojection",
+    std::string methods = "patch,triangle-bbox,interval,interleaved,postprocess,hybrid,reprojection,"
+                          "tfragment",
                 spp = "1,4,16,64",
                 blur = "1",
                 output = "sweep", hardware;
@@ -377,6 +389,7 @@ struct SweepCommand {
     PostprocessOptions postprocess;
     float edgeThreshold = HybridOptions{}.edgeThreshold;
     ReprojectionOptions reprojection;
+    TFragmentOptions tfragment;
     std::uint64_t memoryBudgetMiB = 4096;
     bool noProgress = false;
 };
@@ -422,6 +435,7 @@ int runSweepCommand(const SweepCommand& c) {
     o.render.postprocess = c.postprocess;
     o.render.edgeThreshold = c.edgeThreshold;
     o.render.reprojection = c.reprojection;
+    o.render.tfragment = c.tfragment;
     o.hardware = c.hardware.empty() ? defaultHardwareConfig() : readHardwareConfig(c.hardware);
     o.limits = limitsOf(c.memoryBudgetMiB);
     o.outputDir = c.output;
@@ -606,7 +620,7 @@ int main(int argc, char** argv) {
     sweep->add_option("--time-strata", sweepOptions.timeStrata, "K of the interval method")
         ->check(CLI::Range(1, 64));
     addPostprocessOptions(*sweep, sweepOptions.postprocess, sweepOptions.edgeThreshold,
-                          sweepOptions.reprojection);
+                          sweepOptions.reprojection, sweepOptions.tfragment);
     sweep->add_option("--threads", sweepOptions.threads, "Worker threads (0: all cores)")
         ->check(kThreadCount);
     sweep->add_option("--hw", sweepOptions.hardware, "Hardware configuration for modelled cycles");

@@ -23,6 +23,9 @@ const std::vector<VisibilityMethodInfo>& visibilityMethods() {
         {VisibilityMethod::Reprojection, "reprojection", false,
          "Taylor: the samples of sharp frames at shutter open and close reprojected into cameras "
          "across the shutter (camera motion)"},
+        {VisibilityMethod::TFragment, "tfragment", false,
+         "Widmer et al. 2016: t-fragments rasterized at t=1, an LBVH of their t-AABBs, lens rays, "
+         "motion sampling"},
     };
     return methods;
 }

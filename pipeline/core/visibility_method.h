@@ -17,7 +17,8 @@ enum class VisibilityMethod : std::uint8_t {
     Interleaved,
     Postprocess,
     Hybrid,
-    Reprojection
+    Reprojection,
+    TFragment
 };
 
 struct VisibilityMethodInfo {

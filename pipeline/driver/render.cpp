@@ -230,6 +230,11 @@ const RatioCounter& sampleTestEfficiencyOf(VisibilityMethod method) {
 VisibilityTotals visibilityTotals(const CounterValues& v, VisibilityMethod method) {
     VisibilityTotals t;
     t.sampleTestEfficiency = v.ratio(sampleTestEfficiencyOf(method));
+    if (method == VisibilityMethod::TFragment) {
+        // One lens ray per sample; its motion samples are what it resolves.
+        const std::int64_t rays = v.byName("TF/Lens rays");
+        return {rays, rays, v.byName("TF/Motion samples"), 0.0};
+    }
     if (usesPatchRasterizer(method)) {
         const RasterCounters& c = rasterCounters();
         t = {v[c.samplesTested], v[c.raysCast], v[c.visibilitySamples], t.sampleTestEfficiency};
@@ -289,8 +294,23 @@ RenderResult renderScene(const SceneDesc& scene, const RenderOptions& options) {
     const VisibilityTargets targets{result.visibility.get(), result.transparent.get(),
                                     result.pixels.get(), 0};
     const CounterValues beforeVisibility = CounterRegistry::instance().snapshot();
-    Visibility visibility =
-        runVisibility(scene, options, fe, camera, samples, rasterized, targets, workers);
+    const ShadingContext context{&frontEnd, &fe.patches, &fe.meshes, &camera};
+    const bool tfragment = options.method == VisibilityMethod::TFragment;
+    TFragmentWork tfragmentWork;
+    std::vector<float> tfragmentColors;
+    Visibility visibility;
+    if (tfragment && options.share.split())
+        throw InputError("command line", "--method", "tfragment does not split across MPI ranks");
+    if (tfragment) {
+        const LensModel lens{result.effects.defocus ? scene.lens.apertureRadius : 0.0f,
+                             scene.lens.focusDistance};
+        tfragmentColors = renderTFragments(context, samples, lens, options.tfragment,
+                                           options.tfragmentTimeSampled, workers,
+                                           *result.visibility, tfragmentWork);
+        tfragmentWork.flush();
+    } else {
+        visibility = runVisibility(scene, options, fe, camera, samples, rasterized, targets, workers);
+    }
     for (const RasterWork& w : visibility.tiles) w.flush();
     const FrameShare& share = options.share;
     if (share.split()) {
@@ -349,7 +369,6 @@ RenderResult renderScene(const SceneDesc& scene, const RenderOptions& options) {
     result.visibilitySeconds = secondsSince(start);
 
     start = std::chrono::steady_clock::now();
-    const ShadingContext context{&frontEnd, &fe.patches, &fe.meshes, &camera};
     {
         Progress progress("shading   ", scene.film.height, 1, options.progress, "rows");
         result.frame = resolveFrame(context, *result.visibility, result.transparent.get(), samples,
@@ -358,7 +377,10 @@ RenderResult renderScene(const SceneDesc& scene, const RenderOptions& options) {
     PostprocessWork post;
     HybridWork hybrid;
     ReprojectionWork reprojected;
-    if (reprojection && result.effects.motion) {
+    if (tfragment) {
+        result.frame.color =
+            filterSamples(tfragmentColors, *result.visibility, samples, options.resolve);
+    } else if (reprojection && result.effects.motion) {
         const std::vector<float> openColors = shadeSamples(
             context, *result.visibility, nullptr, options.resolve.shadingRate, workers);
         const std::vector<float> closeColors =
@@ -397,8 +419,17 @@ RenderResult renderScene(const SceneDesc& scene, const RenderOptions& options) {
         auto& last = result.patchOps.back().ops;
         last[std::size_t(Op::PostSamples)] += double(post.pixels + post.gatherSamples +
                                                      hybrid.maskReads + reprojected.reprojections);
-        last[std::size_t(Op::RayBoxTests)] += double(hybrid.rayBoxTests);
-        last[std::size_t(Op::RayTriangleTests)] += double(hybrid.rayTriangleTests);
+        last[std::size_t(Op::RayBoxTests)] +=
+            double(hybrid.rayBoxTests + tfragmentWork.rayNodeTests);
+        last[std::size_t(Op::RayTriangleTests)] +=
+            double(hybrid.rayTriangleTests + tfragmentWork.capsuleTests +
+                   tfragmentWork.sphereTests + tfragmentWork.cubeTests);
+        // The t-fragment method: its rasterization, hierarchy, and the shading of every motion
+        // sample beyond the one per sample the resolve charges.
+        last[std::size_t(Op::SamplesTested)] += double(tfragmentWork.rasterizedFragments);
+        last[std::size_t(Op::NodesBuilt)] += double(tfragmentWork.bvhNodes);
+        last[std::size_t(Op::Invocations)] +=
+            double(tfragmentWork.motionSamples - tfragmentWork.lensRays);
     }
     return result;
 }

@@ -19,6 +19,7 @@
 #include "backend/motion_blur_postprocess.h"
 #include "backend/resolve.h"
 #include "backend/sample_reprojection.h"
+#include "backend/tfragment_method.h"
 #include "pipeline/core/effects.h"
 #include "pipeline/core/progress.h"
 #include "pipeline/core/rasterizer_options.h"
@@ -53,6 +54,8 @@ struct RenderOptions {
     PostprocessOptions postprocess;  // the postprocess and hybrid methods' filter
     float edgeThreshold = HybridOptions{}.edgeThreshold;  // the hybrid's ray mask: threshold e
     ReprojectionOptions reprojection;                     // the reprojection method's cameras
+    TFragmentOptions tfragment;  // the tfragment method's guard band, thresholds, motion samples
+    bool tfragmentTimeSampled = false;  // tfragment: one traversal per motion sample instead
     ResolveOptions resolve;
     bool heatMaps = false;             // collect per-pixel work
     bool progress = false;             // progress bar (when standard error is a terminal)

@@ -1,0 +1,148 @@
+#include "backend/tfragment_method.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "pipeline/core/counters.h"
+#include "pipeline/core/parallel.h"
+
+namespace patchsim {
+
+namespace {
+
+#define PATCHSIM_TF_COUNTERS(X)                                                                   \
+    X(rasterizedFragments, "TF/Rasterized fragments", "fragments",                                \
+      "Fragments of the two rasterization passes at t = 1 (depth layers, then generation)")       \
+    X(disoccludedPixels, "TF/Disoccluded pixels", "pixels",                                        \
+      "Pixels the disocclusion map culls against the second depth layer")                         \
+    X(generatedOpaque, "TF/Opaque t-fragments", "t-fragments", "Opaque t-fragments generated")    \
+    X(generatedTransparent, "TF/Transparent t-fragments", "t-fragments",                          \
+      "Transparent t-fragments generated")                                                        \
+    X(culled, "TF/Culled fragments", "fragments",                                                 \
+      "Generation-pass fragments behind the culling depth (not made t-fragments)")                \
+    X(bvhNodes, "TF/BVH nodes", "nodes", "LBVH nodes built (opaque and transparent hierarchies)") \
+    X(rayNodeTests, "TF/Ray-node tests", "tests", "Rays against a node's t-AABB")                 \
+    X(capsuleTests, "TF/Capsule tests", "tests", "Lens rays against a leaf's capsule")            \
+    X(collected, "TF/Collected t-fragments", "t-fragments", "t-fragments collected by lens rays") \
+    X(collectOverflow, "TF/Collect overflow", "t-fragments",                                      \
+      "t-fragments a lens ray met beyond its limit (dropped)")                                    \
+    X(lensRays, "TF/Lens rays", "rays", "Lens rays traced (one per sample)")                      \
+    X(motionSamples, "TF/Motion samples", "samples", "Time samples taken on collected t-fragments") \
+    X(sphereTests, "TF/Sphere tests", "tests", "Ray against a t-fragment's circumsphere at a time") \
+    X(cubeTests, "TF/Cube tests", "tests", "Ray against a t-fragment's pixel cube at a time")
+
+#define PATCHSIM_TF_COUNTER(field, name, unit, definition) const Counter tf_##field{name, unit, definition};
+PATCHSIM_TF_COUNTERS(PATCHSIM_TF_COUNTER)
+#undef PATCHSIM_TF_COUNTER
+
+void addWork(TFragmentWork& into, const TFragmentWork& w) {
+#define PATCHSIM_TF_ADD(field, name, unit, definition) into.field += w.field;
+    PATCHSIM_TF_COUNTERS(PATCHSIM_TF_ADD)
+#undef PATCHSIM_TF_ADD
+}
+
+struct Hit {
+    float lambda;
+    std::uint32_t fragment;
+};
+
+Vec3 shade(const ShadingContext& c, const TFragment& f, float lambda, const Ray& ray, float t,
+           Vec2 lens, float* opacity) {
+    const VisibilityRecord r{lambda * ray.depthPerLambda, f.patch, f.triangle, f.b1, f.b2, t, lens};
+    const SurfaceAttributes a = interpolateAttributes(c, r);
+    if (opacity) *opacity = a.opacity;
+    return shadeFragment(c, a, t);
+}
+
+}  // namespace
+
+void TFragmentWork::flush() const {
+#define PATCHSIM_TF_FLUSH(field, name, unit, definition) tf_##field += field;
+    PATCHSIM_TF_COUNTERS(PATCHSIM_TF_FLUSH)
+#undef PATCHSIM_TF_FLUSH
+}
+
+std::vector<float> renderTFragments(const ShadingContext& c, const SampleGenerator& samples,
+                                    const LensModel& lens, const TFragmentOptions& o,
+                                    bool timeSampled, int threads, VisibilityBuffer& visibility,
+                                    TFragmentWork& work) {
+    const TFragmentSet set = generateTFragments(c, lens.radius > 0, o, work);
+    const TFragmentBvh opaque(set.opaque, work), transparent(set.transparent, work);
+    const int w = visibility.width(), h = visibility.height(), spp = visibility.samplesPerPixel();
+    const int M = std::max(1, o.motionSamples);
+    std::vector<float> colors(visibility.records().size() * 3, 0.0f);
+    std::vector<TFragmentWork> rowWork(static_cast<std::size_t>(h));
+    parallelFor(std::size_t(h), threads, [&](int, std::size_t row) {
+        const int y = int(row);
+        TFragmentWork& rw = rowWork[row];
+        std::vector<std::uint32_t> opaqueHits, transparentHits;
+        std::vector<Hit> layers;
+        for (int x = 0; x < w; ++x) {
+            for (int s = 0; s < spp; ++s) {
+                const Sample smp = samples.sample(x, y, s);
+                const Vec2 disk = concentricDisk(smp.lens);
+                const Ray ray = makeCameraRay(
+                    *c.camera, rasterToScreen(*c.camera, Vec2(float(x), float(y)) + smp.pixelOffset),
+                    disk, smp.time, lens);
+                ++rw.lensRays;
+                if (!timeSampled) {
+                    opaque.collect(ray, o.maxCollected, opaqueHits, rw);
+                    transparent.collect(ray, o.maxCollected, transparentHits, rw);
+                }
+                Vec3 sum(0);
+                for (int j = 0; j < M; ++j) {
+                    const float t = std::fmod(smp.time + float(j) / float(M), 1.0f);
+                    ++rw.motionSamples;
+                    float nearest = ray.lambdaMax;
+                    std::int64_t front = -1;
+                    if (timeSampled) {
+                        front = opaque.nearestAt(ray, t, nearest, rw);
+                    } else {
+                        for (std::uint32_t k : opaqueHits) {
+                            float lambda;
+                            if (hitsTFragmentAt(ray, set.opaque[k], t, lambda, rw) &&
+                                (lambda < nearest || (lambda == nearest && k < front))) {
+                                nearest = lambda;
+                                front = k;
+                            }
+                        }
+                    }
+                    Vec3 color = kBackground;
+                    if (front >= 0) {
+                        const TFragment& f = set.opaque[std::size_t(front)];
+                        color = shade(c, f, nearest, ray, t, smp.lens, nullptr);
+                        if (j == 0)
+                            visibility.at(x, y, s) = {nearest * ray.depthPerLambda, f.patch,
+                                                      f.triangle, f.b1, f.b2, t, smp.lens};
+                    }
+                    layers.clear();
+                    for (std::uint32_t k : transparentHits) {
+                        float lambda;
+                        if (hitsTFragmentAt(ray, set.transparent[k], t, lambda, rw) &&
+                            lambda < nearest && layers.size() < 16)
+                            layers.push_back({lambda, k});
+                    }
+                    std::sort(layers.begin(), layers.end(), [](const Hit& a, const Hit& b) {
+                        return a.lambda > b.lambda || (a.lambda == b.lambda && a.fragment < b.fragment);
+                    });
+                    for (const Hit& l : layers) {
+                        float alpha;
+                        const Vec3 layer =
+                            shade(c, set.transparent[l.fragment], l.lambda, ray, t, smp.lens, &alpha);
+                        color = alpha * layer + (1.0f - alpha) * color;
+                    }
+                    sum += color;
+                }
+                const std::size_t i = visibility.index(x, y, s);
+                const Vec3 mean = sum / float(M);
+                colors[3 * i] = mean.x;
+                colors[3 * i + 1] = mean.y;
+                colors[3 * i + 2] = mean.z;
+            }
+        }
+    });
+    for (const TFragmentWork& rw : rowWork) addWork(work, rw);
+    return colors;
+}
+
+}  // namespace patchsim

@@ -1,0 +1,90 @@
+#include "backend/tfragment_method.h"
+
+#include <gtest/gtest.h>
+
+#include <iostream>
+
+#include "backend/image_metrics.h"
+#include "pipeline/core/counters.h"
+#include "pipeline/core/scene_reader.h"
+#include "pipeline/driver/render.h"
+#include "tests/test_paths.h"
+
+namespace patchsim {
+namespace {
+
+SceneDesc small(const char* path, int w, int h, int spp) {
+    SceneDesc s = readSceneFile(test::sourcePath(path));
+    s.film.width = w;
+    s.film.height = h;
+    s.film.samplesPerPixel = spp;
+    return s;
+}
+
+struct Traced {
+    RenderResult result;
+    CounterValues counters;
+    std::int64_t traversalOps() const {  // box and leaf tests of tracing and motion sampling
+        return counters.byName("TF/Ray-node tests") + counters.byName("TF/Capsule tests") +
+               counters.byName("TF/Sphere tests") + counters.byName("TF/Cube tests");
+    }
+};
+
+Traced render(const SceneDesc& scene, int motionSamples, bool timeSampled) {
+    CounterRegistry::instance().reset();
+    RenderOptions o;
+    o.method = VisibilityMethod::TFragment;
+    o.threads = 1;
+    o.tfragment.motionSamples = motionSamples;
+    o.tfragmentTimeSampled = timeSampled;
+    Traced t{renderScene(scene, o), {}};
+    t.counters = CounterRegistry::instance().snapshot();
+    return t;
+}
+
+// Widmer et al. 2016, section 4.3: tracing each lens ray once over the whole frame and sampling
+// time afterwards costs more than time-sampled tracing at few motion samples, and gains as the
+// motion samples per lens ray grow (their 4 against 32).
+TEST(TFragment, DecoupledSamplingGainsOnTimeSampledTracingAsMotionSamplesGrow) {
+    const SceneDesc scene = small("scenes/motion.json", 64, 48, 1);
+    double ratio[2];
+    int k = 0;
+    for (int m : {4, 32}) {
+        const Traced decoupled = render(scene, m, false), sampled = render(scene, m, true);
+        EXPECT_EQ(decoupled.counters.byName("TF/Motion samples"), 64 * 48 * m);
+        ratio[k++] = double(sampled.traversalOps()) / double(decoupled.traversalOps());
+    }
+    EXPECT_GT(ratio[1], 2.0 * ratio[0]) << ratio[0] << " at 4, " << ratio[1] << " at 32";
+    std::cout << "time-sampled / decoupled traversal work: " << ratio[0] << " at 4 motion samples, "
+              << ratio[1] << " at 32\n";
+    EXPECT_GT(ratio[1], 1.0) << "decoupled is cheaper at 32 motion samples";
+}
+
+// Without motion or defocus a t-fragment is the surface at its pixel centre: the image is the
+// patch method's but for sub-pixel edges.
+TEST(TFragment, AStillSceneIsThePatchMethodsImageToWithinEdges) {
+    const SceneDesc scene = small("scenes/static.json", 64, 48, 4);
+    const Traced t = render(scene, 4, false);
+    RenderOptions o;
+    o.threads = 1;
+    const RenderResult patch = renderScene(scene, o);
+    EXPECT_GT(psnr(t.result.frame.color, patch.frame.color), 25.0);
+    EXPECT_EQ(t.counters.byName("TF/Disoccluded pixels"), 0);
+    EXPECT_GT(t.counters.byName("TF/Opaque t-fragments"), 300);
+}
+
+// Moving geometry: disocclusions pull in the second layer, and every hierarchy is complete.
+TEST(TFragment, MotionDisoccludesAndTheHierarchiesHoldEveryTFragment) {
+    const Traced t = render(small("scenes/motion.json", 64, 48, 2), 4, false);
+    const CounterValues& c = t.counters;
+    EXPECT_GT(c.byName("TF/Disoccluded pixels"), 0);
+    const std::int64_t fragments = c.byName("TF/Opaque t-fragments") + c.byName("TF/Transparent t-fragments");
+    const std::int64_t hierarchies = (c.byName("TF/Opaque t-fragments") > 0) +
+                                     (c.byName("TF/Transparent t-fragments") > 0);
+    EXPECT_EQ(c.byName("TF/BVH nodes"), 2 * fragments - hierarchies);
+    EXPECT_EQ(c.byName("TF/Lens rays"), 64 * 48 * 2);
+    EXPECT_GT(c.byName("TF/Collected t-fragments"), 0);
+}
+
+}  // namespace
+}  // namespace patchsim
