@@ -28,9 +28,10 @@ struct RasterFragment {
 };
 
 // Calls visit(x, y, fragment) for every pixel centre the triangle covers at t = 1.
+// `frontOnly`: skip triangles facing away from the camera (closed surfaces' far sides).
 template <typename Visit>
 void rasterizeTriangle(const Camera& camera, const MovingMesh& mesh, std::uint32_t tri,
-                       const GuardRaster& raster, const Visit& visit) {
+                       const GuardRaster& raster, bool frontOnly, const Visit& visit) {
     const std::uint32_t* v = &mesh.indices[3 * std::size_t(tri)];
     Vec2 s[3];
     float depth[3];
@@ -41,6 +42,9 @@ void rasterizeTriangle(const Camera& camera, const MovingMesh& mesh, std::uint32
     }
     const float area = (s[1].x - s[0].x) * (s[2].y - s[0].y) - (s[2].x - s[0].x) * (s[1].y - s[0].y);
     if (area == 0.0f || !std::isfinite(area)) return;
+    // Raster y points down: a triangle counter-clockwise in camera space (facing the camera)
+    // has a negative area here.
+    if (frontOnly && area > 0.0f) return;
     const int x0 = std::max(-raster.guard, int(std::floor(std::min({s[0].x, s[1].x, s[2].x}))));
     const int x1 = std::min(raster.width - raster.guard - 1, int(std::ceil(std::max({s[0].x, s[1].x, s[2].x}))));
     const int y0 = std::max(-raster.guard, int(std::floor(std::min({s[0].y, s[1].y, s[2].y}))));
@@ -122,7 +126,7 @@ TFragmentSet generateTFragments(const ShadingContext& c, bool defocus, const TFr
     for (const MovingMesh& m : meshes) {
         if (!m.opaque) continue;
         for (std::uint32_t t = 0; t < m.triangleCount(); ++t) {
-            rasterizeTriangle(camera, m, t, r, [&](int x, int y, const RasterFragment& f) {
+            rasterizeTriangle(camera, m, t, r, true, [&](int x, int y, const RasterFragment& f) {
                 ++work.rasterizedFragments;
                 const std::size_t i = r.index(x, y);
                 if (f.depth < depth1[i]) {
@@ -157,7 +161,7 @@ TFragmentSet generateTFragments(const ShadingContext& c, bool defocus, const TFr
     const float pixelPerDepth = 2.0f * camera.tanHalfFovY() / float(camera.height());
     for (const MovingMesh& m : meshes) {
         for (std::uint32_t t = 0; t < m.triangleCount(); ++t) {
-            rasterizeTriangle(camera, m, t, r, [&](int x, int y, const RasterFragment& f) {
+            rasterizeTriangle(camera, m, t, r, m.opaque, [&](int x, int y, const RasterFragment& f) {
                 ++work.rasterizedFragments;
                 if (!(f.depth <= culling[r.index(x, y)] * 1.0001f)) {
                     ++work.culled;
