@@ -86,5 +86,27 @@ TEST(TFragment, MotionDisoccludesAndTheHierarchiesHoldEveryTFragment) {
     EXPECT_GT(c.byName("TF/Collected t-fragments"), 0);
 }
 
+// Where it fails (the paper's own caveat): t-fragments are what is seen at t = 1, so an object
+// that leaves the view during the frame is lost, while one that enters it is kept.
+TEST(TFragment, AnObjectLeavingTheViewIsLostOneEnteringIsKept) {
+    SceneDesc base = small("scenes/motion.json", 80, 60, 4);
+    base.objects.resize(1);  // the torus
+    double error[2];
+    for (int leaving = 0; leaving < 2; ++leaving) {
+        SceneDesc scene = base;
+        ObjectDesc& torus = scene.objects[0];
+        const Vec3 inView(-0.5f, 0.3f, 0.0f), outOfView(7.0f, 0.3f, 0.0f);
+        torus.open.translate = leaving ? inView : outOfView;
+        torus.close.translate = leaving ? outOfView : inView;
+        RenderOptions o;
+        o.threads = 1;
+        const RenderResult exact = renderScene(scene, o);
+        o.method = VisibilityMethod::TFragment;
+        const RenderResult t = renderScene(scene, o);
+        error[leaving] = psnr(t.frame.color, exact.frame.color);
+    }
+    EXPECT_LT(error[1], error[0] - 3.0) << error[0] << " dB entering, " << error[1] << " dB leaving";
+}
+
 }  // namespace
 }  // namespace patchsim
