@@ -19,7 +19,8 @@ const Counter hyEdges{"HY/Edge pixels", "pixels", "Candidates above the Sobel ed
 const Counter hyMasked{"HY/Masked pixels", "pixels",
                        "Pixels in the ray mask (an edge within their velocity's reach)"};
 const Counter hyMaskReads{"HY/Mask reads", "pixels", "Pixels read by the three mask passes"};
-const Counter hyRays{"HY/Rays", "rays", "Ray-reveal rays: the first and the second per masked pixel"};
+const Counter hyRays{"HY/Rays", "rays",
+                     "Ray-reveal rays: the first and the second per masked pixel"};
 const Counter hyBoxTests{"HY/Ray-box tests", "tests", "Second rays against a patch's box"};
 const Counter hyTriangleTests{"HY/Ray-triangle tests", "tests",
                               "Second rays against triangles (watertight test, mid-shutter)"};
@@ -66,8 +67,8 @@ float edgeMeasure(const GBuffer& g, int x, int y) {
     Vec3 dnx(0), dny(0);
     for (int j = -2; j <= 2; ++j) {
         for (int i = -2; i <= 2; ++i) {
-            const std::size_t k = g.index(std::clamp(x + i, 0, g.width - 1),
-                                          std::clamp(y + j, 0, g.height - 1));
+            const std::size_t k =
+                g.index(std::clamp(x + i, 0, g.width - 1), std::clamp(y + j, 0, g.height - 1));
             const float wx = derive[i + 2] * smooth[j + 2], wy = smooth[i + 2] * derive[j + 2];
             dzx += wx * g.depth[k];
             dzy += wy * g.depth[k];
@@ -124,22 +125,6 @@ std::vector<std::uint8_t> rayMask(const ResolvedFrame& sharp, const GBuffer& g,
     return mask;
 }
 
-bool rayHitsBox(const Ray& r, const Box3& b, float lambdaMin, float lambdaMax) {
-    float lo = lambdaMin, hi = lambdaMax;
-    for (int k = 0; k < 3; ++k) {
-        if (r.direction[k] == 0.0f) {
-            if (r.origin[k] < b.lower[k] || r.origin[k] > b.upper[k]) return false;
-            continue;
-        }
-        const float inv = 1.0f / r.direction[k];
-        float a = (b.lower[k] - r.origin[k]) * inv, c = (b.upper[k] - r.origin[k]) * inv;
-        if (a > c) std::swap(a, c);
-        lo = std::max(lo, a - 1e-5f * std::abs(a));
-        hi = std::min(hi, c + 1e-5f * std::abs(c));
-    }
-    return lo <= hi;
-}
-
 // The frame's opaque patches for second rays at mid-shutter: per patch its groups' hierarchies
 // (as the patch rasterizer builds them), walked with boxes blended to t = 0.5.
 struct RevealScene {
@@ -178,7 +163,10 @@ struct RevealScene {
             while (top > 0) {
                 const int node = stack[--top];
                 ++work.rayBoxTests;
-                if (!rayHitsBox(ray, h.node(node).at(0.5f), ray.lambdaMin, ray.lambdaMax)) continue;
+                float entry;
+                if (!rayHitsBox(ray, h.node(node).at(0.5f), ray.lambdaMin, ray.lambdaMax, entry,
+                                1e-5f))
+                    continue;
                 if (!h.isLeaf(node)) {
                     stack[top++] = 2 * node + 2;
                     stack[top++] = 2 * node + 1;
@@ -240,9 +228,9 @@ Image hybridMotionBlur(const ShadingContext& c, const ResolvedFrame& sharp,
             if (!mask[i]) continue;
             // The first ray's hit is the sharp frame's; the second starts just behind it.
             work.rays += 2;
-            Ray ray = makeCameraRay(
-                camera, rasterToScreen(camera, {float(x) + 0.5f, float(y) + 0.5f}), Vec2(0),
-                0.5f, LensModel{});
+            Ray ray =
+                makeCameraRay(camera, rasterToScreen(camera, {float(x) + 0.5f, float(y) + 0.5f}),
+                              Vec2(0), 0.5f, LensModel{});
             ray.lambdaMin = std::max(ray.lambdaMin, g.depth[i] / ray.depthPerLambda);
             const VisibilityRecord behind = scene.trace(*c.meshes, ray, g.object[i], work);
             if (!behind.hit()) continue;

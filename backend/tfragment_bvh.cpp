@@ -50,23 +50,6 @@ bool containsOrigin(float lo0, float lo1, float hi0, float hi1, float& t0, float
     return keep(lo0, lo1) && keep(-hi0, -hi1) && t0 <= t1;
 }
 
-bool rayHitsBox(const Ray& r, const Box3& b, float& lambda) {
-    float lo = r.lambdaMin, hi = r.lambdaMax;
-    for (int k = 0; k < 3; ++k) {
-        if (r.direction[k] == 0.0f) {
-            if (r.origin[k] < b.lower[k] || r.origin[k] > b.upper[k]) return false;
-            continue;
-        }
-        const float inv = 1.0f / r.direction[k];
-        float a = (b.lower[k] - r.origin[k]) * inv, c = (b.upper[k] - r.origin[k]) * inv;
-        if (a > c) std::swap(a, c);
-        lo = std::max(lo, a);
-        hi = std::min(hi, c);
-    }
-    lambda = lo;
-    return lo <= hi;
-}
-
 // Squared distance between the ray's line and the segment [p, q].
 float lineSegmentDistance2(const Vec3& o, const Vec3& d, const Vec3& p, const Vec3& q) {
     const Vec3 u = q - p, w = p - o;
@@ -91,7 +74,7 @@ bool hitsTFragmentAt(const Ray& ray, const TFragment& f, float t, float& lambda,
     if (glm::dot(off, off) > f.radius * f.radius) return false;
     ++work.cubeTests;
     const float half = f.radius * 0.57735027f;  // the cube inside the circumsphere
-    return rayHitsBox(ray, {c - half, c + half}, lambda);
+    return rayHitsBox(ray, {c - half, c + half}, ray.lambdaMin, ray.lambdaMax, lambda);
 }
 
 TFragmentBvh::TFragmentBvh(const std::vector<TFragment>& fragments, TFragmentWork& work)
@@ -212,7 +195,7 @@ std::int64_t TFragmentBvh::nearestAt(const Ray& ray, float t, float& lambda,
         const Node& node = nodes_[std::size_t(stack[--top])];
         ++work.rayNodeTests;
         float entry;
-        if (!rayHitsBox(r, node.bounds.at(t), entry)) continue;
+        if (!rayHitsBox(r, node.bounds.at(t), r.lambdaMin, r.lambdaMax, entry)) continue;
         if (node.left >= 0) {
             if (top + 2 > 128) continue;
             stack[top++] = node.right;

@@ -6,6 +6,7 @@
 #include "pipeline/core/scene_reader.h"
 #include "pipeline/driver/render.h"
 #include "pipeline/driver/sweep.h"
+#include "tests/quick_sweep.h"
 #include "tests/test_paths.h"
 
 namespace patchsim {
@@ -22,16 +23,9 @@ SceneDesc hybridScene(int w, int h, int spp) {
 // Tan et al. 2022, Table 1: the hybrid is closer to the converged image than the plain
 // post-process (25.69 against 24.20 dB there) on a moving object over a textured background.
 TEST(Hybrid, RevealedBackgroundBeatsThePostProcessAgainstTheConvergedImage) {
-    SweepOptions o;
-    o.methods = {VisibilityMethod::Postprocess, VisibilityMethod::Hybrid};
-    o.samplesPerPixel = {4};
-    o.repeats = 1;
-    o.convergedSamplesPerPixel = 64;
-    o.hardware = defaultHardwareConfig();
-    o.outputDir = test::temporaryDirectory() + "/hybrid-sweep";
-    o.progress = false;
-    std::ostringstream log;
-    const std::vector<SweepRow> rows = runSweep({{"hybrid", hybridScene(160, 120, 4)}}, o, log);
+    const std::vector<SweepRow> rows =
+        test::quickSweep(hybridScene(160, 120, 4),
+                         {VisibilityMethod::Postprocess, VisibilityMethod::Hybrid}, {4}, "hybrid");
     ASSERT_EQ(rows.size(), 2u);
     EXPECT_GT(rows[1].psnr, rows[0].psnr + 1.0)
         << rows[0].psnr << " dB post-process, " << rows[1].psnr << " dB hybrid";
@@ -40,16 +34,9 @@ TEST(Hybrid, RevealedBackgroundBeatsThePostProcessAgainstTheConvergedImage) {
 // Where it fails: like the post-process it starts from one sharp frame, so more samples do not
 // bring it to the converged image (its error is bias, not noise), while the exact method's does.
 TEST(Hybrid, MoreSamplesDoNotConvergeItWhereTheExactMethodConverges) {
-    SweepOptions o;
-    o.methods = {VisibilityMethod::Patch, VisibilityMethod::Hybrid};
-    o.samplesPerPixel = {4, 16};
-    o.repeats = 1;
-    o.convergedSamplesPerPixel = 64;
-    o.hardware = defaultHardwareConfig();
-    o.outputDir = test::temporaryDirectory() + "/hybrid-converge";
-    o.progress = false;
-    std::ostringstream log;
-    const std::vector<SweepRow> rows = runSweep({{"hybrid", hybridScene(160, 120, 4)}}, o, log);
+    const std::vector<SweepRow> rows = test::quickSweep(
+        hybridScene(160, 120, 4), {VisibilityMethod::Patch, VisibilityMethod::Hybrid}, {4, 16},
+        "hybrid-converge");
     ASSERT_EQ(rows.size(), 4u);  // patch 4, 16; hybrid 4, 16
     EXPECT_GT(rows[1].psnr - rows[0].psnr, 4.0)
         << "patch: " << rows[0].psnr << ", " << rows[1].psnr;

@@ -8,6 +8,7 @@
 #include "pipeline/core/scene_reader.h"
 #include "pipeline/driver/render.h"
 #include "pipeline/driver/sweep.h"
+#include "tests/quick_sweep.h"
 #include "tests/test_paths.h"
 
 namespace patchsim {
@@ -65,9 +66,9 @@ TEST(Postprocess, AMovingSquareBlursAlongItsMotionOnly) {
     const float edge = out.get(31, 30).x;               // just inside the left edge
     EXPECT_LT(edge, square - 0.05f);
     EXPECT_GT(edge, background + 0.05f);
-    EXPECT_NEAR(out.get(40, 30).x, square, 0.05f);       // the middle stays the square's
-    EXPECT_NEAR(out.get(40, 10).x, background, 1e-6f);   // above: its tile and neighbours still
-    EXPECT_NEAR(out.get(40, 17).x, background, 0.02f);   // just above: sampled along x only
+    EXPECT_NEAR(out.get(40, 30).x, square, 0.05f);      // the middle stays the square's
+    EXPECT_NEAR(out.get(40, 10).x, background, 1e-6f);  // above: its tile and neighbours still
+    EXPECT_NEAR(out.get(40, 17).x, background, 0.02f);  // just above: sampled along x only
     EXPECT_GT(work.blurredPixels, 0);
     EXPECT_EQ(work.gatherSamples, work.blurredPixels * (o.samples - 1));
 }
@@ -118,22 +119,14 @@ TEST(Postprocess, AMovingSceneIsOneSharpFrameThenTheFilter) {
 // Where it fails: one sharp frame holds no background behind a moving object, and velocities are
 // one per pixel; at equal samples the exact method is closer to the converged image.
 TEST(Postprocess, LosesTheBackgroundBehindMovingObjects) {
-    SweepOptions o;
-    o.methods = {VisibilityMethod::Patch, VisibilityMethod::Postprocess};
-    o.samplesPerPixel = {4};
-    o.repeats = 1;
-    o.convergedSamplesPerPixel = 64;
-    o.hardware = defaultHardwareConfig();
-    o.outputDir = test::temporaryDirectory() + "/postprocess-sweep";
-    o.progress = false;
     SceneDesc scene = readSceneFile(test::sourcePath("scenes/hybrid.json"));
     scene.film.width = 160;
     scene.film.height = 120;
-    std::ostringstream log;
-    const std::vector<SweepRow> rows = runSweep({{"hybrid", scene}}, o, log);
+    const std::vector<SweepRow> rows = test::quickSweep(
+        scene, {VisibilityMethod::Patch, VisibilityMethod::Postprocess}, {4}, "postprocess");
     ASSERT_EQ(rows.size(), 2u);
-    EXPECT_LT(rows[1].psnr, rows[0].psnr - 2.0) << rows[0].psnr << " dB patch, " << rows[1].psnr
-                                                << " dB post-process";
+    EXPECT_LT(rows[1].psnr, rows[0].psnr - 2.0)
+        << rows[0].psnr << " dB patch, " << rows[1].psnr << " dB post-process";
 }
 
 }  // namespace

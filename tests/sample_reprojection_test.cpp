@@ -6,6 +6,7 @@
 #include "pipeline/core/scene_reader.h"
 #include "pipeline/driver/render.h"
 #include "pipeline/driver/sweep.h"
+#include "tests/quick_sweep.h"
 #include "tests/test_paths.h"
 
 namespace patchsim {
@@ -21,28 +22,19 @@ SceneDesc scene(const char* path, int spp) {
 
 std::vector<SweepRow> sweep(const SceneDesc& s, std::vector<VisibilityMethod> methods,
                             const RenderOptions& render = {}) {
-    SweepOptions o;
-    o.methods = std::move(methods);
-    o.samplesPerPixel = {4};
-    o.repeats = 1;
-    o.convergedSamplesPerPixel = 64;
-    o.hardware = defaultHardwareConfig();
-    o.outputDir = test::temporaryDirectory() + "/reprojection-sweep";
-    o.progress = false;
-    o.render = render;
-    std::ostringstream log;
-    return runSweep({{"scene", s}}, o, log);
+    return test::quickSweep(s, std::move(methods), {4}, "reprojection", render);
 }
 
 // Taylor: for a small budget, reprojecting two frames' samples across the shutter gives a
 // smoother camera-motion blur than as many distributed time samples; and more interpolated
 // cameras give a smoother blur than fewer.
 TEST(Reprojection, ACameraPanBlursSmootherThanDistributedSamplesOfTheSameCount) {
-    const std::vector<SweepRow> rows = sweep(
-        scene("scenes/camera_pan.json", 4), {VisibilityMethod::Patch, VisibilityMethod::Reprojection});
+    const std::vector<SweepRow> rows =
+        sweep(scene("scenes/camera_pan.json", 4),
+              {VisibilityMethod::Patch, VisibilityMethod::Reprojection});
     ASSERT_EQ(rows.size(), 2u);
-    EXPECT_GT(rows[1].psnr, rows[0].psnr + 3.0) << rows[0].psnr << " dB distributed, "
-                                                << rows[1].psnr << " dB reprojected";
+    EXPECT_GT(rows[1].psnr, rows[0].psnr + 3.0)
+        << rows[0].psnr << " dB distributed, " << rows[1].psnr << " dB reprojected";
     RenderOptions few;
     few.reprojection.cameraSteps = 2;
     const std::vector<SweepRow> coarse =
@@ -52,11 +44,12 @@ TEST(Reprojection, ACameraPanBlursSmootherThanDistributedSamplesOfTheSameCount) 
 
 // Where it fails: objects that move on their own are not interpolated between the two frames.
 TEST(Reprojection, ObjectMotionIsNotBlurred) {
-    const std::vector<SweepRow> rows = sweep(
-        scene("scenes/hybrid.json", 4), {VisibilityMethod::Postprocess, VisibilityMethod::Reprojection});
+    const std::vector<SweepRow> rows =
+        sweep(scene("scenes/hybrid.json", 4),
+              {VisibilityMethod::Postprocess, VisibilityMethod::Reprojection});
     ASSERT_EQ(rows.size(), 2u);
-    EXPECT_LT(rows[1].psnr, rows[0].psnr - 1.0) << rows[0].psnr << " dB post-process, "
-                                                << rows[1].psnr << " dB reprojection";
+    EXPECT_LT(rows[1].psnr, rows[0].psnr - 1.0)
+        << rows[0].psnr << " dB post-process, " << rows[1].psnr << " dB reprojection";
 }
 
 TEST(Reprojection, EverySampleOfBothFramesGoesToEveryCamera) {

@@ -8,9 +8,12 @@
 // ray carries the range of its parameter it may hit in, [lambdaMin, lambdaMax] (Embree's tnear
 // and tfar), which z culling and nearer hits shrink.
 
+#include <algorithm>
+#include <cmath>
 #include <limits>
 
 #include "pipeline/core/camera.h"
+#include "pipeline/core/lbbox.h"
 #include "pipeline/core/math.h"
 
 namespace patchsim {
@@ -57,6 +60,27 @@ inline Ray makeCameraRay(const Camera& camera, Vec2 screen, Vec2 lensDisk, float
     ray.lambdaMin = camera.nearPlane() / ray.depthPerLambda;
     ray.lambdaMax = camera.farPlane() / ray.depthPerLambda;
     return ray;
+}
+
+// The ray against a static box over [lambdaMin, lambdaMax] (slab test; an axis the ray runs
+// parallel to is decided by the origin). Each slab is widened by `slack` of its distance, for
+// callers that must not lose a grazing hit to rounding. `entry` gets the parameter it enters at.
+inline bool rayHitsBox(const Ray& r, const Box3& b, float lambdaMin, float lambdaMax, float& entry,
+                       float slack = 0.0f) {
+    float lo = lambdaMin, hi = lambdaMax;
+    for (int k = 0; k < 3; ++k) {
+        if (r.direction[k] == 0.0f) {
+            if (r.origin[k] < b.lower[k] || r.origin[k] > b.upper[k]) return false;
+            continue;
+        }
+        const float inv = 1.0f / r.direction[k];
+        float a = (b.lower[k] - r.origin[k]) * inv, c = (b.upper[k] - r.origin[k]) * inv;
+        if (a > c) std::swap(a, c);
+        lo = std::max(lo, a - slack * std::abs(a));
+        hi = std::min(hi, c + slack * std::abs(c));
+    }
+    entry = lo;
+    return lo <= hi;
 }
 
 }  // namespace patchsim
