@@ -62,6 +62,10 @@ void visibility(benchmark::State& state, const SceneDesc& scene) {
     state.counters["tiles"] = perFrame(total.tilesInBounds);
     state.counters["plane tests"] = perFrame(total.planeTests);
     state.counters["groups"] = perFrame(total.groups);
+    state.counters["patches"] = perFrame(total.patches);
+    state.counters["hierarchy bytes/patch"] =
+        perFrame(total.hierarchyBytes) / perFrame(total.patches);
+    state.counters["peak hierarchy bytes"] = double(total.peakHierarchyBytes);
     state.counters["rays/s"] =
         benchmark::Counter(double(total.raysCast), benchmark::Counter::kIsRate);
 }
@@ -114,5 +118,15 @@ void mergeSmallPatches(benchmark::State& state) {
     visibility(state, scene);
 }
 BENCHMARK(mergeSmallPatches)->Arg(0)->Arg(32)->Arg(256)->Unit(benchmark::kMillisecond);
+
+// Hierarchy size against the on-chip scratch budget (16 KiB in pipeline/hw/default.json): the
+// default scene at a fixed tessellation factor (range(0)), patches split into groups as today.
+void hierarchyBytes(benchmark::State& state) {
+    SceneDesc scene = patchsim::defaultScene();
+    scene.tessellation.targetEdgePixels = 0;
+    scene.tessellation.factor = float(state.range(0));
+    visibility(state, scene);
+}
+BENCHMARK(hierarchyBytes)->Arg(8)->Arg(16)->Arg(32)->Arg(64)->Unit(benchmark::kMillisecond);
 
 }  // namespace
