@@ -94,9 +94,8 @@ void PostprocessWork::flush() const {
     ppGather += gatherSamples;
 }
 
-Image reconstructMotionBlur(const ResolvedFrame& sharp, float farDepth,
-                            const PostprocessOptions& o, PostprocessWork& work,
-                            const RevealedBackground* revealed) {
+Image reconstructMotionBlur(const ResolvedFrame& sharp, float farDepth, const PostprocessOptions& o,
+                            PostprocessWork& work, const RevealedBackground* revealed) {
     const int w = sharp.color.width, h = sharp.color.height, k = std::max(1, o.tileSize);
     const Velocities v = pixelVelocities(sharp, float(k));
     const int tilesX = (w + k - 1) / k, tilesY = (h + k - 1) / k;
@@ -122,7 +121,8 @@ Image reconstructMotionBlur(const ResolvedFrame& sharp, float farDepth,
             float ownWeight = weight;
             Vec3 ownSum = sum;
             int ownSamples = 1;
-            const std::uint64_t hash = mix64(o.seed ^ mix64((std::uint64_t(x) << 32) | std::uint64_t(y)));
+            const std::uint64_t hash =
+                mix64(o.seed ^ mix64((std::uint64_t(x) << 32) | std::uint64_t(y)));
             const float jitter = float(hash >> 40) * (1.0f / 16777216.0f) - 0.5f;
             for (int i = 0; i < S; ++i) {
                 if (i == (S - 1) / 2) continue;
@@ -153,7 +153,8 @@ Image reconstructMotionBlur(const ResolvedFrame& sharp, float farDepth,
                 continue;
             }
             const float coverage = float(ownSamples) / float(S);
-            out.set(x, y, coverage * ownSum / ownWeight + (1.0f - coverage) * revealed->color[target]);
+            out.set(x, y,
+                    coverage * ownSum / ownWeight + (1.0f - coverage) * revealed->color[target]);
         }
     }
     return out;

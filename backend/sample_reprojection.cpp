@@ -75,7 +75,8 @@ Image reprojectSamples(const ShadingContext& c, const SharpFrame& open, const Sh
                             continue;
                         }
                         ++work.reprojections;
-                        const std::size_t pixel = std::size_t(py) * std::size_t(w) + std::size_t(px);
+                        const std::size_t pixel =
+                            std::size_t(py) * std::size_t(w) + std::size_t(px);
                         sum[pixel] += color;
                         ++count[pixel];
                     }

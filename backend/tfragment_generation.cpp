@@ -40,15 +40,18 @@ void rasterizeTriangle(const Camera& camera, const MovingMesh& mesh, std::uint32
         depth[k] = -p.z;
         if (!camera.cameraToRaster(p, s[k])) return;  // reaches the near plane: not rasterized
     }
-    const float area = (s[1].x - s[0].x) * (s[2].y - s[0].y) - (s[2].x - s[0].x) * (s[1].y - s[0].y);
+    const float area =
+        (s[1].x - s[0].x) * (s[2].y - s[0].y) - (s[2].x - s[0].x) * (s[1].y - s[0].y);
     if (area == 0.0f || !std::isfinite(area)) return;
     // Raster y points down: a triangle counter-clockwise in camera space (facing the camera)
     // has a negative area here.
     if (frontOnly && area > 0.0f) return;
     const int x0 = std::max(-raster.guard, int(std::floor(std::min({s[0].x, s[1].x, s[2].x}))));
-    const int x1 = std::min(raster.width - raster.guard - 1, int(std::ceil(std::max({s[0].x, s[1].x, s[2].x}))));
+    const int x1 = std::min(raster.width - raster.guard - 1,
+                            int(std::ceil(std::max({s[0].x, s[1].x, s[2].x}))));
     const int y0 = std::max(-raster.guard, int(std::floor(std::min({s[0].y, s[1].y, s[2].y}))));
-    const int y1 = std::min(raster.height - raster.guard - 1, int(std::ceil(std::max({s[0].y, s[1].y, s[2].y}))));
+    const int y1 = std::min(raster.height - raster.guard - 1,
+                            int(std::ceil(std::max({s[0].y, s[1].y, s[2].y}))));
     for (int y = y0; y <= y1; ++y) {
         for (int x = x0; x <= x1; ++x) {
             const Vec2 c(float(x) + 0.5f, float(y) + 0.5f);
@@ -61,8 +64,9 @@ void rasterizeTriangle(const Camera& camera, const MovingMesh& mesh, std::uint32
             // Perspective-correct barycentrics: screen weights over depth, normalised.
             const float q0 = w0 / depth[0], q1 = w1 / depth[1], q2 = w2 / depth[2];
             const float sum = q0 + q1 + q2;
-            visit(x, y, RasterFragment{1.0f / sum, mesh.patchOf(tri), mesh.triangleInPatchOf(tri),
-                                       q1 / sum, q2 / sum});
+            visit(x, y,
+                  RasterFragment{1.0f / sum, mesh.patchOf(tri), mesh.triangleInPatchOf(tri),
+                                 q1 / sum, q2 / sum});
         }
     }
 }
@@ -102,7 +106,8 @@ std::vector<std::uint8_t> disocclusionMap(const Camera& camera, const GuardRaste
                 const float z = depth1[r.index(px, py)];
                 return std::isfinite(z) ? z : far;
             };
-            const float laplacian = d(x + 1, y) + d(x - 1, y) + d(x, y + 1) + d(x, y - 1) - 4 * d(x, y);
+            const float laplacian =
+                d(x + 1, y) + d(x - 1, y) + d(x, y + 1) + d(x, y - 1) - 4 * d(x, y);
             if (std::abs(laplacian) / d(x, y) > o.laplacianThreshold) map[i] = 1;
         }
     }
@@ -161,23 +166,25 @@ TFragmentSet generateTFragments(const ShadingContext& c, bool defocus, const TFr
     const float pixelPerDepth = 2.0f * camera.tanHalfFovY() / float(camera.height());
     for (const MovingMesh& m : meshes) {
         for (std::uint32_t t = 0; t < m.triangleCount(); ++t) {
-            rasterizeTriangle(camera, m, t, r, m.opaque, [&](int x, int y, const RasterFragment& f) {
-                ++work.rasterizedFragments;
-                if (!(f.depth <= culling[r.index(x, y)] * 1.0001f)) {
-                    ++work.culled;
-                    return;
-                }
-                const MovingMesh& own = meshes[std::size_t(f.patch)];
-                // The fragment's triangle in its own patch's mesh (its hit ids are patch-local).
-                TFragment tf{pointAt(own, f.triangle, f.b1, f.b2, false),
-                             pointAt(own, f.triangle, f.b1, f.b2, true),
-                             0.8660254f * pixelPerDepth * f.depth,
-                             f.patch,
-                             f.triangle,
-                             f.b1,
-                             f.b2};
-                (m.opaque ? set.opaque : set.transparent).push_back(tf);
-            });
+            rasterizeTriangle(camera, m, t, r, m.opaque,
+                              [&](int x, int y, const RasterFragment& f) {
+                                  ++work.rasterizedFragments;
+                                  if (!(f.depth <= culling[r.index(x, y)] * 1.0001f)) {
+                                      ++work.culled;
+                                      return;
+                                  }
+                                  const MovingMesh& own = meshes[std::size_t(f.patch)];
+                                  // The fragment's triangle in its own patch's mesh (its hit ids
+                                  // are patch-local).
+                                  TFragment tf{pointAt(own, f.triangle, f.b1, f.b2, false),
+                                               pointAt(own, f.triangle, f.b1, f.b2, true),
+                                               0.8660254f * pixelPerDepth * f.depth,
+                                               f.patch,
+                                               f.triangle,
+                                               f.b1,
+                                               f.b2};
+                                  (m.opaque ? set.opaque : set.transparent).push_back(tf);
+                              });
         }
     }
     work.generatedOpaque += std::int64_t(set.opaque.size());

@@ -13,8 +13,8 @@
 //
 // Generation: the opaque triangles facing the camera are rasterized at t = 1 (pixel centres,
 // perspective-correct) into two depth layers, so the second layer is the next surface behind, not
-// a closed object's own far side; the first layer's velocity field gives a motion disocclusion map (a
-// pixel whose velocity differs from its right or upper neighbour's by d pixels marks a square of
+// a closed object's own far side; the first layer's velocity field gives a motion disocclusion map
+// (a pixel whose velocity differs from its right or upper neighbour's by d pixels marks a square of
 // radius d around it), OR'ed with thresholded depth Laplacians when the lens blurs; marked pixels
 // cull against the second layer, the others against the first. A second rasterization keeps every
 // fragment that passes that culling depth (opaque ones facing the camera; transparent ones both

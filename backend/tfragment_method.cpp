@@ -13,7 +13,7 @@ namespace {
 #define PATCHSIM_TF_COUNTERS(X)                                                                   \
     X(rasterizedFragments, "TF/Rasterized fragments", "fragments",                                \
       "Fragments of the two rasterization passes at t = 1 (depth layers, then generation)")       \
-    X(disoccludedPixels, "TF/Disoccluded pixels", "pixels",                                        \
+    X(disoccludedPixels, "TF/Disoccluded pixels", "pixels",                                       \
       "Pixels the disocclusion map culls against the second depth layer")                         \
     X(generatedOpaque, "TF/Opaque t-fragments", "t-fragments", "Opaque t-fragments generated")    \
     X(generatedTransparent, "TF/Transparent t-fragments", "t-fragments",                          \
@@ -27,11 +27,14 @@ namespace {
     X(collectOverflow, "TF/Collect overflow", "t-fragments",                                      \
       "t-fragments a lens ray met beyond its limit (dropped)")                                    \
     X(lensRays, "TF/Lens rays", "rays", "Lens rays traced (one per sample)")                      \
-    X(motionSamples, "TF/Motion samples", "samples", "Time samples taken on collected t-fragments") \
-    X(sphereTests, "TF/Sphere tests", "tests", "Ray against a t-fragment's circumsphere at a time") \
+    X(motionSamples, "TF/Motion samples", "samples",                                              \
+      "Time samples taken on collected t-fragments")                                              \
+    X(sphereTests, "TF/Sphere tests", "tests",                                                    \
+      "Ray against a t-fragment's circumsphere at a time")                                        \
     X(cubeTests, "TF/Cube tests", "tests", "Ray against a t-fragment's pixel cube at a time")
 
-#define PATCHSIM_TF_COUNTER(field, name, unit, definition) const Counter tf_##field{name, unit, definition};
+#define PATCHSIM_TF_COUNTER(field, name, unit, definition) \
+    const Counter tf_##field{name, unit, definition};
 PATCHSIM_TF_COUNTERS(PATCHSIM_TF_COUNTER)
 #undef PATCHSIM_TF_COUNTER
 
@@ -82,8 +85,9 @@ std::vector<float> renderTFragments(const ShadingContext& c, const SampleGenerat
                 const Sample smp = samples.sample(x, y, s);
                 const Vec2 disk = concentricDisk(smp.lens);
                 const Ray ray = makeCameraRay(
-                    *c.camera, rasterToScreen(*c.camera, Vec2(float(x), float(y)) + smp.pixelOffset),
-                    disk, smp.time, lens);
+                    *c.camera,
+                    rasterToScreen(*c.camera, Vec2(float(x), float(y)) + smp.pixelOffset), disk,
+                    smp.time, lens);
                 ++rw.lensRays;
                 if (!timeSampled) {
                     opaque.collect(ray, o.maxCollected, opaqueHits, rw);
@@ -112,8 +116,13 @@ std::vector<float> renderTFragments(const ShadingContext& c, const SampleGenerat
                         const TFragment& f = set.opaque[std::size_t(front)];
                         color = shade(c, f, nearest, ray, t, smp.lens, nullptr);
                         if (j == 0)
-                            visibility.at(x, y, s) = {nearest * ray.depthPerLambda, f.patch,
-                                                      f.triangle, f.b1, f.b2, t, smp.lens};
+                            visibility.at(x, y, s) = {nearest * ray.depthPerLambda,
+                                                      f.patch,
+                                                      f.triangle,
+                                                      f.b1,
+                                                      f.b2,
+                                                      t,
+                                                      smp.lens};
                     }
                     layers.clear();
                     for (std::uint32_t k : transparentHits) {
@@ -123,12 +132,13 @@ std::vector<float> renderTFragments(const ShadingContext& c, const SampleGenerat
                             layers.push_back({lambda, k});
                     }
                     std::sort(layers.begin(), layers.end(), [](const Hit& a, const Hit& b) {
-                        return a.lambda > b.lambda || (a.lambda == b.lambda && a.fragment < b.fragment);
+                        return a.lambda > b.lambda ||
+                               (a.lambda == b.lambda && a.fragment < b.fragment);
                     });
                     for (const Hit& l : layers) {
                         float alpha;
-                        const Vec3 layer =
-                            shade(c, set.transparent[l.fragment], l.lambda, ray, t, smp.lens, &alpha);
+                        const Vec3 layer = shade(c, set.transparent[l.fragment], l.lambda, ray, t,
+                                                 smp.lens, &alpha);
                         color = alpha * layer + (1.0f - alpha) * color;
                     }
                     sum += color;

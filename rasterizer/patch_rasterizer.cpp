@@ -30,7 +30,8 @@ void PatchRasterizer::prepareGroup(const MovingMesh& mesh, const std::uint32_t* 
     // In 2D the nodes are already projected: the bounds are their rectangles' union.
     const ScreenBounds bounds =
         options_.boundsSpace == BoundsSpace::Screen2D
-            ? screenBounds(group.hierarchy, options_.boundsLevel, caster_.camera, group.nodes.screen)
+            ? screenBounds(group.hierarchy, options_.boundsLevel, caster_.camera,
+                           group.nodes.screen)
             : screenBounds(group.hierarchy, options_.boundsLevel, caster_.camera, caster_.lens);
     work.fullScreenBounds += bounds.fullScreen;
     group.tiles = tilesCovering(bounds, grid_);

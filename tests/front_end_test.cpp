@@ -272,9 +272,9 @@ TEST(FrontEnd, StaticSceneIsBitwiseStaticAndMovingSceneMoves) {
 
 TEST(FrontEnd, EffectsOfEveryShippedScene) {
     const std::map<std::string, std::array<bool, 3>> expected = {
-        {"default.json", {true, true, false}},     {"motion_defocus.json", {true, true, false}},
-        {"static.json", {false, false, false}},    {"motion.json", {true, false, false}},
-        {"defocus.json", {false, true, false}},    {"transparency.json", {true, false, true}},
+        {"default.json", {true, true, false}},      {"motion_defocus.json", {true, true, false}},
+        {"static.json", {false, false, false}},     {"motion.json", {true, false, false}},
+        {"defocus.json", {false, true, false}},     {"transparency.json", {true, false, true}},
         {"ngons_loop.json", {false, false, false}}, {"hybrid.json", {true, false, false}},
         {"camera_pan.json", {true, false, false}}};
     for (const std::string& path : test::sceneFiles()) {

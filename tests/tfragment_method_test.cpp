@@ -78,9 +78,10 @@ TEST(TFragment, MotionDisoccludesAndTheHierarchiesHoldEveryTFragment) {
     const Traced t = render(small("scenes/motion.json", 64, 48, 2), 4, false);
     const CounterValues& c = t.counters;
     EXPECT_GT(c.byName("TF/Disoccluded pixels"), 0);
-    const std::int64_t fragments = c.byName("TF/Opaque t-fragments") + c.byName("TF/Transparent t-fragments");
-    const std::int64_t hierarchies = (c.byName("TF/Opaque t-fragments") > 0) +
-                                     (c.byName("TF/Transparent t-fragments") > 0);
+    const std::int64_t fragments =
+        c.byName("TF/Opaque t-fragments") + c.byName("TF/Transparent t-fragments");
+    const std::int64_t hierarchies =
+        (c.byName("TF/Opaque t-fragments") > 0) + (c.byName("TF/Transparent t-fragments") > 0);
     EXPECT_EQ(c.byName("TF/BVH nodes"), 2 * fragments - hierarchies);
     EXPECT_EQ(c.byName("TF/Lens rays"), 64 * 48 * 2);
     EXPECT_GT(c.byName("TF/Collected t-fragments"), 0);
@@ -105,7 +106,8 @@ TEST(TFragment, AnObjectLeavingTheViewIsLostOneEnteringIsKept) {
         const RenderResult t = renderScene(scene, o);
         error[leaving] = psnr(t.frame.color, exact.frame.color);
     }
-    EXPECT_LT(error[1], error[0] - 3.0) << error[0] << " dB entering, " << error[1] << " dB leaving";
+    EXPECT_LT(error[1], error[0] - 3.0)
+        << error[0] << " dB entering, " << error[1] << " dB leaving";
 }
 
 }  // namespace

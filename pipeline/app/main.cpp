@@ -380,11 +380,10 @@ int runExplore(const ExploreCommand& e, const MpiContext& mpi) {
 
 struct SweepCommand {
     std::vector<std::string> scenes;
-    std::string methods = "patch,triangle-bbox,interval,interleaved,postprocess,hybrid,reprojection,"
-                          "tfragment",
-                spp = "1,4,16,64",
-                blur = "1",
-                output = "sweep", hardware;
+    std::string methods =
+                    "patch,triangle-bbox,interval,interleaved,postprocess,hybrid,reprojection,"
+                    "tfragment",
+                spp = "1,4,16,64", blur = "1", output = "sweep", hardware;
     int repeats = 3, convergedSpp = 0, threads = 0, timeStrata = 4;
     PostprocessOptions postprocess;
     float edgeThreshold = HybridOptions{}.edgeThreshold;

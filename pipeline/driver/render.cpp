@@ -309,7 +309,8 @@ RenderResult renderScene(const SceneDesc& scene, const RenderOptions& options) {
                                            *result.visibility, tfragmentWork);
         tfragmentWork.flush();
     } else {
-        visibility = runVisibility(scene, options, fe, camera, samples, rasterized, targets, workers);
+        visibility =
+            runVisibility(scene, options, fe, camera, samples, rasterized, targets, workers);
     }
     for (const RasterWork& w : visibility.tiles) w.flush();
     const FrameShare& share = options.share;
@@ -381,23 +382,23 @@ RenderResult renderScene(const SceneDesc& scene, const RenderOptions& options) {
         result.frame.color =
             filterSamples(tfragmentColors, *result.visibility, samples, options.resolve);
     } else if (reprojection && result.effects.motion) {
-        const std::vector<float> openColors = shadeSamples(
-            context, *result.visibility, nullptr, options.resolve.shadingRate, workers);
+        const std::vector<float> openColors = shadeSamples(context, *result.visibility, nullptr,
+                                                           options.resolve.shadingRate, workers);
         const std::vector<float> closeColors =
             shadeSamples(context, *closeFrame, nullptr, options.resolve.shadingRate, workers);
-        const Image closePixels = filterSamples(closeColors, *closeFrame, closeSamples, options.resolve);
-        result.frame.color = reprojectSamples(
-            context, {result.visibility.get(), &openColors, &samples, 0.0f},
-            {closeFrame.get(), &closeColors, &closeSamples, 1.0f}, result.frame.color, closePixels,
-            options.reprojection, reprojected);
+        const Image closePixels =
+            filterSamples(closeColors, *closeFrame, closeSamples, options.resolve);
+        result.frame.color =
+            reprojectSamples(context, {result.visibility.get(), &openColors, &samples, 0.0f},
+                             {closeFrame.get(), &closeColors, &closeSamples, 1.0f},
+                             result.frame.color, closePixels, options.reprojection, reprojected);
         reprojected.flush();
     } else if (postprocess && result.effects.motion) {
         PostprocessOptions o = options.postprocess;
         o.seed = scene.film.seed;
         if (options.method == VisibilityMethod::Hybrid)
-            result.frame.color =
-                hybridMotionBlur(context, result.frame, *result.visibility,
-                                 {o, options.edgeThreshold}, post, hybrid);
+            result.frame.color = hybridMotionBlur(context, result.frame, *result.visibility,
+                                                  {o, options.edgeThreshold}, post, hybrid);
         else
             result.frame.color = reconstructMotionBlur(result.frame, camera.farPlane(), o, post);
         post.flush();
@@ -417,8 +418,8 @@ RenderResult renderScene(const SceneDesc& scene, const RenderOptions& options) {
     // The post-process passes and the hybrid's rays run once the last patch is shaded.
     if (!result.patchOps.empty()) {
         auto& last = result.patchOps.back().ops;
-        last[std::size_t(Op::PostSamples)] += double(post.pixels + post.gatherSamples +
-                                                     hybrid.maskReads + reprojected.reprojections);
+        last[std::size_t(Op::PostSamples)] +=
+            double(post.pixels + post.gatherSamples + hybrid.maskReads + reprojected.reprojections);
         last[std::size_t(Op::RayBoxTests)] +=
             double(hybrid.rayBoxTests + tfragmentWork.rayNodeTests);
         last[std::size_t(Op::RayTriangleTests)] +=

@@ -49,8 +49,8 @@ struct RenderOptions {
     VisibilityMethod method = VisibilityMethod::Patch;
     EffectOverrides overrides;
     int threads = 0;
-    int maxLayers = 16;  // transparent t-fragments kept per sample
-    int timeStrata = 4;  // the interval method's K
+    int maxLayers = 16;              // transparent t-fragments kept per sample
+    int timeStrata = 4;              // the interval method's K
     PostprocessOptions postprocess;  // the postprocess and hybrid methods' filter
     float edgeThreshold = HybridOptions{}.edgeThreshold;  // the hybrid's ray mask: threshold e
     ReprojectionOptions reprojection;                     // the reprojection method's cameras
