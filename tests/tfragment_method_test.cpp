@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <iostream>
+#include <map>
 
 #include "backend/image_metrics.h"
 #include "pipeline/core/counters.h"
@@ -85,6 +86,22 @@ TEST(TFragment, MotionDisoccludesAndTheHierarchiesHoldEveryTFragment) {
     EXPECT_EQ(c.byName("TF/BVH nodes"), 2 * fragments - hierarchies);
     EXPECT_EQ(c.byName("TF/Lens rays"), 64 * 48 * 2);
     EXPECT_GT(c.byName("TF/Collected t-fragments"), 0);
+}
+
+TEST(TFragment, ImagesAndCountersDoNotDependOnTheThreadCount) {
+    const SceneDesc scene = small("scenes/motion_defocus.json", 48, 36, 2);
+    std::vector<float> image[2];
+    std::map<std::string, std::int64_t> counts[2];
+    for (int threads : {1, 2}) {
+        CounterRegistry::instance().reset();
+        RenderOptions o;
+        o.method = VisibilityMethod::TFragment;
+        o.threads = threads;
+        image[threads - 1] = renderScene(scene, o).frame.color.rgb;
+        counts[threads - 1] = CounterRegistry::instance().snapshot().byName();
+    }
+    EXPECT_EQ(image[0], image[1]);
+    EXPECT_EQ(counts[0], counts[1]);
 }
 
 // Where it fails (the paper's own caveat): t-fragments are what is seen at t = 1, so an object
