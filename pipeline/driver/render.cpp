@@ -249,6 +249,40 @@ VisibilityTotals visibilityTotals(const CounterValues& v, VisibilityMethod metho
     return t;
 }
 
+namespace {
+
+// The approximate methods' own work, beyond the sharp frames the patch rasterizer renders.
+struct ApproximateWork {
+    PostprocessWork post;
+    HybridWork hybrid;
+    ReprojectionWork reprojection;
+    TFragmentWork tfragment;
+    void flush() const {
+        post.flush();
+        hybrid.flush();
+        reprojection.flush();
+        tfragment.flush();
+    }
+};
+
+// Charged with the frame's last patch: the passes and rays run once it is shaded.
+void chargeApproximateWork(const ApproximateWork& w, PatchOps& last) {
+    auto& ops = last.ops;
+    ops[std::size_t(Op::PostSamples)] += double(w.post.pixels + w.post.gatherSamples +
+                                                w.hybrid.maskReads + w.reprojection.reprojections);
+    ops[std::size_t(Op::RayBoxTests)] += double(w.hybrid.rayBoxTests + w.tfragment.rayNodeTests);
+    ops[std::size_t(Op::RayTriangleTests)] +=
+        double(w.hybrid.rayTriangleTests + w.tfragment.capsuleTests + w.tfragment.sphereTests +
+               w.tfragment.cubeTests);
+    // The t-fragment method: its rasterization, hierarchy, and the shading of every motion sample
+    // beyond the one per sample the resolve charges.
+    ops[std::size_t(Op::SamplesTested)] += double(w.tfragment.rasterizedFragments);
+    ops[std::size_t(Op::NodesBuilt)] += double(w.tfragment.bvhNodes);
+    ops[std::size_t(Op::Invocations)] += double(w.tfragment.motionSamples - w.tfragment.lensRays);
+}
+
+}  // namespace
+
 RenderResult renderScene(const SceneDesc& scene, const RenderOptions& options) {
     scene.rasterizer.validate(scene.path);
     if (options.maxLayers < 1 || options.maxLayers > 255)
@@ -270,11 +304,12 @@ RenderResult renderScene(const SceneDesc& scene, const RenderOptions& options) {
 
     start = std::chrono::steady_clock::now();
     // The interleaved method is an accumulation buffer: its samples repeat in every pixel. The
-    // post-process starts from a sharp frame: every sample at mid-shutter, through a pinhole.
-    const bool postprocess = startsFromSharpFrame(options.method);
+    // image-space methods start from sharp frames: every sample at one time, through a pinhole
+    // (mid-shutter; the reprojection's at shutter open, and a second one at close).
+    const bool sharpFrame = startsFromSharpFrame(options.method);
     const bool reprojection = options.method == VisibilityMethod::Reprojection;
     Effects sampled = result.effects, rasterized = result.effects;
-    if (postprocess) {
+    if (sharpFrame) {
         sampled.motion = sampled.shadingVaries = sampled.defocus = false;
         rasterized.defocus = false;
     }
@@ -282,7 +317,7 @@ RenderResult renderScene(const SceneDesc& scene, const RenderOptions& options) {
                                   options.method == VisibilityMethod::Interleaved
                                       ? SamplePattern::Interleaved
                                       : scene.film.sampler,
-                                  postprocess && !reprojection ? 0.5f : 0.0f);
+                                  sharpFrame && !reprojection ? 0.5f : 0.0f);
     result.visibility = std::make_unique<VisibilityBuffer>(
         scene.film.width, scene.film.height, scene.film.samplesPerPixel, camera.farPlane());
     if (result.effects.transparency)
@@ -296,7 +331,7 @@ RenderResult renderScene(const SceneDesc& scene, const RenderOptions& options) {
     const CounterValues beforeVisibility = CounterRegistry::instance().snapshot();
     const ShadingContext context{&frontEnd, &fe.patches, &fe.meshes, &camera};
     const bool tfragment = options.method == VisibilityMethod::TFragment;
-    TFragmentWork tfragmentWork;
+    ApproximateWork approximate;
     std::vector<float> tfragmentColors;
     Visibility visibility;
     if (tfragment && options.share.split())
@@ -306,8 +341,7 @@ RenderResult renderScene(const SceneDesc& scene, const RenderOptions& options) {
                              scene.lens.focusDistance};
         tfragmentColors = renderTFragments(context, samples, lens, options.tfragment,
                                            options.tfragmentTimeSampled, workers,
-                                           *result.visibility, tfragmentWork);
-        tfragmentWork.flush();
+                                           *result.visibility, approximate.tfragment);
     } else {
         visibility =
             runVisibility(scene, options, fe, camera, samples, rasterized, targets, workers);
@@ -375,9 +409,6 @@ RenderResult renderScene(const SceneDesc& scene, const RenderOptions& options) {
         result.frame = resolveFrame(context, *result.visibility, result.transparent.get(), samples,
                                     options.resolve, workers, &progress);
     }
-    PostprocessWork post;
-    HybridWork hybrid;
-    ReprojectionWork reprojected;
     if (tfragment) {
         result.frame.color =
             filterSamples(tfragmentColors, *result.visibility, samples, options.resolve);
@@ -388,22 +419,22 @@ RenderResult renderScene(const SceneDesc& scene, const RenderOptions& options) {
             shadeSamples(context, *closeFrame, nullptr, options.resolve.shadingRate, workers);
         const Image closePixels =
             filterSamples(closeColors, *closeFrame, closeSamples, options.resolve);
-        result.frame.color =
-            reprojectSamples(context, {result.visibility.get(), &openColors, &samples, 0.0f},
-                             {closeFrame.get(), &closeColors, &closeSamples, 1.0f},
-                             result.frame.color, closePixels, options.reprojection, reprojected);
-        reprojected.flush();
-    } else if (postprocess && result.effects.motion) {
+        result.frame.color = reprojectSamples(
+            context, {result.visibility.get(), &openColors, &samples, 0.0f},
+            {closeFrame.get(), &closeColors, &closeSamples, 1.0f}, result.frame.color, closePixels,
+            options.reprojection, approximate.reprojection);
+    } else if (sharpFrame && result.effects.motion) {
         PostprocessOptions o = options.postprocess;
         o.seed = scene.film.seed;
         if (options.method == VisibilityMethod::Hybrid)
-            result.frame.color = hybridMotionBlur(context, result.frame, *result.visibility,
-                                                  {o, options.edgeThreshold}, post, hybrid);
+            result.frame.color =
+                hybridMotionBlur(context, result.frame, *result.visibility,
+                                 {o, options.edgeThreshold}, approximate.post, approximate.hybrid);
         else
-            result.frame.color = reconstructMotionBlur(result.frame, camera.farPlane(), o, post);
-        post.flush();
-        hybrid.flush();
+            result.frame.color =
+                reconstructMotionBlur(result.frame, camera.farPlane(), o, approximate.post);
     }
+    approximate.flush();
     result.shadingSeconds = secondsSince(start);
     result.patchOps = collectPatchOps(
         fe.patches, shadingWorkPerPatch(*result.visibility, result.transparent.get(),
@@ -415,23 +446,7 @@ RenderResult renderScene(const SceneDesc& scene, const RenderOptions& options) {
                 result.patchOps[i].ops[std::size_t(op)] += visibilityOps[i].ops[std::size_t(op)];
     for (std::size_t i = 0; i < result.patches; ++i)
         result.patchOps[i].hierarchyBytes = visibilityOps[i].hierarchyBytes;
-    // The post-process passes and the hybrid's rays run once the last patch is shaded.
-    if (!result.patchOps.empty()) {
-        auto& last = result.patchOps.back().ops;
-        last[std::size_t(Op::PostSamples)] +=
-            double(post.pixels + post.gatherSamples + hybrid.maskReads + reprojected.reprojections);
-        last[std::size_t(Op::RayBoxTests)] +=
-            double(hybrid.rayBoxTests + tfragmentWork.rayNodeTests);
-        last[std::size_t(Op::RayTriangleTests)] +=
-            double(hybrid.rayTriangleTests + tfragmentWork.capsuleTests +
-                   tfragmentWork.sphereTests + tfragmentWork.cubeTests);
-        // The t-fragment method: its rasterization, hierarchy, and the shading of every motion
-        // sample beyond the one per sample the resolve charges.
-        last[std::size_t(Op::SamplesTested)] += double(tfragmentWork.rasterizedFragments);
-        last[std::size_t(Op::NodesBuilt)] += double(tfragmentWork.bvhNodes);
-        last[std::size_t(Op::Invocations)] +=
-            double(tfragmentWork.motionSamples - tfragmentWork.lensRays);
-    }
+    if (!result.patchOps.empty()) chargeApproximateWork(approximate, result.patchOps.back());
     return result;
 }
 
