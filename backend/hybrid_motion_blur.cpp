@@ -93,8 +93,9 @@ std::vector<std::uint8_t> rayMask(const ResolvedFrame& sharp, const GBuffer& g,
             const std::size_t i = g.index(x, y);
             const Vec2 motion(sharp.motionX[i], sharp.motionY[i]);
             if (g.object[i] < 0 || glm::length(motion) <= 0.5f) continue;
-            const int nx = std::clamp(int(std::lround(float(x) + motion.x)), 0, w - 1);
-            const int ny = std::clamp(int(std::lround(float(y) + motion.y)), 0, h - 1);
+            // Clamped as floats: a motion AOV can be huge near the camera plane.
+            const int nx = int(std::lround(std::clamp(float(x) + motion.x, 0.0f, float(w - 1))));
+            const int ny = int(std::lround(std::clamp(float(y) + motion.y, 0.0f, float(h - 1))));
             const std::size_t next = g.index(nx, ny);
             ++work.maskReads;
             if (g.object[next] == g.object[i] || !(g.depth[next] - g.depth[i] > o.post.softZExtent))

@@ -69,11 +69,12 @@ Image reprojectSamples(const ShadingContext& c, const SharpFrame& open, const Sh
                         if (world.w == 0.0f) p *= 1e6f;  // a direction: far along it
                         Vec2 raster;
                         const bool front = c.camera->cameraToRaster(p, raster);
-                        const int px = int(std::floor(raster.x)), py = int(std::floor(raster.y));
-                        if (!front || px < 0 || py < 0 || px >= w || py >= h) {
+                        if (!front || !(raster.x >= 0.0f && raster.x < float(w)) ||
+                            !(raster.y >= 0.0f && raster.y < float(h))) {
                             ++work.offScreen;
                             continue;
                         }
+                        const int px = int(raster.x), py = int(raster.y);
                         ++work.reprojections;
                         const std::size_t pixel =
                             std::size_t(py) * std::size_t(w) + std::size_t(px);

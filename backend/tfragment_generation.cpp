@@ -46,12 +46,15 @@ void rasterizeTriangle(const Camera& camera, const MovingMesh& mesh, std::uint32
     // Raster y points down: a triangle counter-clockwise in camera space (facing the camera)
     // has a negative area here.
     if (frontOnly && area > 0.0f) return;
-    const int x0 = std::max(-raster.guard, int(std::floor(std::min({s[0].x, s[1].x, s[2].x}))));
-    const int x1 = std::min(raster.width - raster.guard - 1,
-                            int(std::ceil(std::max({s[0].x, s[1].x, s[2].x}))));
-    const int y0 = std::max(-raster.guard, int(std::floor(std::min({s[0].y, s[1].y, s[2].y}))));
-    const int y1 = std::min(raster.height - raster.guard - 1,
-                            int(std::ceil(std::max({s[0].y, s[1].y, s[2].y}))));
+    // Clamped as floats first: a vertex near the near plane can project far outside int range.
+    auto pixel = [](float value, int lo, int hi) {
+        return int(std::clamp(value, float(lo), float(hi)));
+    };
+    const int xHi = raster.width - raster.guard - 1, yHi = raster.height - raster.guard - 1;
+    const int x0 = pixel(std::floor(std::min({s[0].x, s[1].x, s[2].x})), -raster.guard, xHi);
+    const int x1 = pixel(std::ceil(std::max({s[0].x, s[1].x, s[2].x})), -raster.guard, xHi);
+    const int y0 = pixel(std::floor(std::min({s[0].y, s[1].y, s[2].y})), -raster.guard, yHi);
+    const int y1 = pixel(std::ceil(std::max({s[0].y, s[1].y, s[2].y})), -raster.guard, yHi);
     for (int y = y0; y <= y1; ++y) {
         for (int x = x0; x <= x1; ++x) {
             const Vec2 c(float(x) + 0.5f, float(y) + 0.5f);
@@ -93,7 +96,8 @@ std::vector<std::uint8_t> disocclusionMap(const Camera& camera, const GuardRaste
                 spread = std::max(spread, glm::length(velocity[r.index(nx, ny)] - velocity[i]));
             }
             if (spread > o.disocclusionPixels) {
-                const int radius = int(std::ceil(spread));
+                // At most the raster's size (a velocity can be huge near the camera plane).
+                const int radius = int(std::ceil(std::min(spread, float(r.width + r.height))));
                 for (int dy = -radius; dy <= radius; ++dy)
                     for (int dx = -radius; dx <= radius; ++dx)
                         if (r.contains(x + dx, y + dy)) map[r.index(x + dx, y + dy)] = 1;
