@@ -11,6 +11,7 @@
 // samples bleed through; a pixel nothing lands in is a disocclusion hole, counted, and filled
 // with the blend of the two frames. Only the camera's motion blurs: an object's own motion
 // between the frames is not interpolated (the paper leaves object motion to future work).
+// Each sharp frame keeps its nearest hit per sample, so transparent surfaces count as opaque.
 
 #include <cstdint>
 #include <vector>

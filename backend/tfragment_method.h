@@ -8,7 +8,8 @@
 // Samples: each of the frame's 5D samples is one lens ray (its pixel position and lens point);
 // its motion samples are at times frac(t + j / M), j < M, from the sample's own time t, and its
 // colour is their mean. `timeSampled` replaces the decoupled tracing with one traversal per
-// motion sample (the paper's comparison, opaque surfaces only).
+// motion sample (the paper's comparison, opaque surfaces only). The method renders whole frames:
+// it does not split one across MPI ranks (the render refuses, naming --method).
 
 #include <vector>
 
