@@ -129,4 +129,36 @@ void hierarchyBytes(benchmark::State& state) {
 }
 BENCHMARK(hierarchyBytes)->Arg(8)->Arg(16)->Arg(32)->Arg(64)->Unit(benchmark::kMillisecond);
 
+// Cost growth: the default scene at 160x120, 4 spp and factor 8 (range(0) = 0), then with twice the
+// samples per pixel (1), twice the pixels (2: 226x170) and twice the patches (3: every object
+// twice, in place). Linear cost doubles the time of the base in each.
+void costGrowth(benchmark::State& state) {
+    SceneDesc scene = patchsim::defaultScene();
+    scene.film.width = 160;
+    scene.film.height = 120;
+    scene.film.samplesPerPixel = 4;
+    scene.tessellation.targetEdgePixels = 0;  // a fixed factor: the same triangles at any size
+    scene.tessellation.factor = 8.0f;
+    switch (state.range(0)) {
+        case 1:
+            scene.film.samplesPerPixel = 8;
+            break;
+        case 2:
+            scene.film.width = 226;
+            scene.film.height = 170;
+            break;
+        case 3: {
+            const std::vector<ObjectDesc> objects = scene.objects;
+            scene.objects.insert(scene.objects.end(), objects.begin(), objects.end());
+            break;
+        }
+        default:
+            break;
+    }
+    constexpr const char* kLabels[] = {"base", "2x spp", "2x pixels", "2x patches"};
+    state.SetLabel(kLabels[state.range(0)]);
+    visibility(state, scene);
+}
+BENCHMARK(costGrowth)->DenseRange(0, 3)->Unit(benchmark::kMillisecond);
+
 }  // namespace
