@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <ostream>
 
+#include "pipeline/core/enum_names.h"
 #include "pipeline/core/samples.h"
 
 namespace patchsim {
@@ -78,18 +79,17 @@ const Camera& verifierCamera() {
     return camera;
 }
 
+namespace {
+
+constexpr EnumName<BoxCaseKind> kBoxCaseKinds[] = {{BoxCaseKind::Still, "still"},
+                                                   {BoxCaseKind::DepthOnly, "depth-only"},
+                                                   {BoxCaseKind::Moving, "moving"},
+                                                   {BoxCaseKind::CameraMotion, "camera-motion"}};
+
+}  // namespace
+
 const char* boxCaseKindName(BoxCaseKind kind) {
-    switch (kind) {
-        case BoxCaseKind::Still:
-            return "still";
-        case BoxCaseKind::DepthOnly:
-            return "depth-only";
-        case BoxCaseKind::Moving:
-            return "moving";
-        case BoxCaseKind::CameraMotion:
-            return "camera-motion";
-    }
-    return "?";
+    return nameIn(kBoxCaseKinds, kind);
 }
 
 BoxCase makeBoxCase(std::uint64_t seed, CaseModel model, std::int64_t number) {
@@ -198,15 +198,9 @@ void makeHierarchyCase(std::uint64_t seed, std::int64_t number, HierarchyCase& c
 bool parseCaseName(const std::string& name, CaseModel& model, std::int64_t& number) {
     const std::size_t colon = name.find(':');
     if (colon == std::string::npos) return false;
-    const std::string head = name.substr(0, colon), tail = name.substr(colon + 1);
-    bool known = false;
-    for (CaseModel m : {CaseModel::Pinhole, CaseModel::Lens, CaseModel::Hierarchy}) {
-        if (head == caseModelName(m)) {
-            model = m;
-            known = true;
-        }
-    }
-    if (!known || tail.empty() || tail.size() > 15) return false;
+    const std::string tail = name.substr(colon + 1);
+    if (!parseCaseModel(name.substr(0, colon), model) || tail.empty() || tail.size() > 15)
+        return false;
     number = 0;
     for (char ch : tail) {
         if (ch < '0' || ch > '9') return false;

@@ -6,6 +6,7 @@
 #include <ostream>
 #include <sstream>
 
+#include "pipeline/core/enum_names.h"
 #include "pipeline/core/parallel.h"
 #include "rasterizer/branch_node.h"
 #include "rasterizer/screen_bounds.h"
@@ -42,16 +43,20 @@ const std::vector<std::unique_ptr<TileTestVariant>>& registeredTileTests() {
     return tileTestRegistry();
 }
 
+namespace {
+
+constexpr EnumName<CaseModel> kCaseModels[] = {{CaseModel::Pinhole, "pinhole"},
+                                               {CaseModel::Lens, "lens"},
+                                               {CaseModel::Hierarchy, "hierarchy"}};
+
+}  // namespace
+
 const char* caseModelName(CaseModel model) {
-    switch (model) {
-        case CaseModel::Pinhole:
-            return "pinhole";
-        case CaseModel::Lens:
-            return "lens";
-        case CaseModel::Hierarchy:
-            return "hierarchy";
-    }
-    return "?";
+    return nameIn(kCaseModels, model);
+}
+
+bool parseCaseModel(const std::string& name, CaseModel& out) {
+    return parseIn(kCaseModels, name, out);
 }
 
 // ---- Excess distribution ----

@@ -87,6 +87,7 @@ void addLiteratureTileTests(std::vector<std::unique_ptr<TileTestVariant>>& out);
 
 enum class CaseModel : std::uint8_t { Pinhole, Lens, Hierarchy };
 const char* caseModelName(CaseModel model);
+bool parseCaseModel(const std::string& name, CaseModel& out);
 
 // Excess beyond the truth (time-interval width in shutter fractions, or branch-node levels) in
 // 1000 bins of `binWidth`.
