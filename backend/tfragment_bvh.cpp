@@ -120,7 +120,6 @@ TFragmentBvh::TFragmentBvh(const std::vector<TFragment>& fragments, TFragmentWor
     }
     // Bounds, children before parents (post-order with an explicit stack).
     std::vector<std::pair<std::int32_t, bool>> stack{{0, false}};
-    if (n == 1) stack = {{0, false}};
     while (!stack.empty()) {
         auto [node, childrenDone] = stack.back();
         stack.pop_back();

@@ -39,9 +39,6 @@ class TFragmentBvh {
     // gets its ray parameter.
     std::int64_t nearestAt(const Ray& ray, float t, float& lambda, TFragmentWork& work) const;
 
-    std::size_t nodeCount() const { return nodes_.size(); }
-    bool empty() const { return fragments_->empty(); }
-
   private:
     struct Node {
         LBBox bounds;

@@ -108,7 +108,6 @@ struct CheckResult {
 struct CaseTruth {
     TileTruth exact;
     std::vector<WitnessHit> witness;
-    bool witnessed = false;
 };
 
 double width(const TimeRange& r) {
@@ -156,7 +155,6 @@ CheckResult judgeBoxVariant(const TileTestVariant& variant, const TileTestInput&
 CaseTruth boxTruth(const TileTestInput& in, bool witnessed, std::int64_t& outsideTruth) {
     CaseTruth truth;
     truth.exact = exactTileTruth(*in.camera, in.lens, in.tile, in.box);
-    truth.witnessed = witnessed;
     if (!witnessed) return truth;
     truth.witness = sampledWitness(*in.camera, in.lens, in.tile, in.box);
     constexpr float kTolerance = 1e-4f;  // the witness's float rays against the double truth
