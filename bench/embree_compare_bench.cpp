@@ -11,6 +11,7 @@
 #include "pipeline/core/scene_reader.h"
 #include "pipeline/driver/render.h"
 #include "rasterizer/frame_rasterizer.h"
+#include "rasterizer/sample_rays.h"
 #include "tessellator/front_end.h"
 
 namespace {
@@ -29,6 +30,7 @@ SceneDesc comparedScene(std::int64_t variant) {
         scene.tessellation.targetEdgePixels = 0;
         scene.tessellation.factor = 32.0f;
     }
+
     return scene;
 }
 
@@ -38,6 +40,7 @@ struct Frame {
     Effects effects;
     std::vector<MovingMesh> meshes;
     std::unique_ptr<SampleGenerator> samples;
+    std::unique_ptr<SampleTable> table;
     LensModel lens;
 
     explicit Frame(std::int64_t variant) : scene(comparedScene(variant)) {
@@ -52,6 +55,7 @@ struct Frame {
         }
         samples =
             std::make_unique<SampleGenerator>(scene.film.seed, scene.film.samplesPerPixel, effects);
+        table = std::make_unique<SampleTable>(*samples, scene.film.width, scene.film.height, 0);
         lens = {scene.lens.apertureRadius, scene.lens.focusDistance};
     }
     std::int64_t sampleCount() const {
@@ -80,6 +84,7 @@ void patchRasterizer(benchmark::State& state) {
     std::int64_t hits = 0;
     FrameRasterOptions singleThread;
     singleThread.threads = 1;
+    singleThread.sampleTable = f.table.get();
     for (auto _ : state) {
         VisibilityBuffer buffer(f.scene.film.width, f.scene.film.height,
                                 f.scene.film.samplesPerPixel, camera.farPlane());
@@ -123,15 +128,18 @@ void embree(benchmark::State& state) {
     }
     rtcCommitScene(scene);
     std::int64_t hits = 0;
-    const RayCaster caster{camera, f.lens, *f.samples};
     for (auto _ : state) {
         hits = 0;
         RTCIntersectContext context;
         rtcInitIntersectContext(&context);
         for (int y = 0; y < f.scene.film.height; ++y) {
             for (int x = 0; x < f.scene.film.width; ++x) {
+                const Sample* pixel = f.table->pixel(x, y);
+                const Vec2* disk = f.table->disk(x, y);
                 for (int s = 0; s < f.scene.film.samplesPerPixel; ++s) {
-                    const Ray ray = sampleRay(caster, x, y, s);
+                    const Vec2 raster = Vec2(float(x), float(y)) + pixel[s].pixelOffset;
+                    const Ray ray = makeCameraRay(camera, rasterToScreen(camera, raster), disk[s],
+                                                  pixel[s].time, f.lens);
                     RTCRayHit rh;
                     rh.ray.org_x = ray.origin.x;
                     rh.ray.org_y = ray.origin.y;

@@ -19,6 +19,12 @@ pkg_check_modules(OPENIMAGEIO REQUIRED IMPORTED_TARGET OpenImageIO)
 add_library(patchsim::openimageio INTERFACE IMPORTED)
 target_link_libraries(patchsim::openimageio INTERFACE PkgConfig::OPENIMAGEIO)
 
+# Google Highway (libhwy-dev): the rasterizer's SIMD kernels, dispatched at run time to the host's
+# best instruction set.
+pkg_check_modules(HWY REQUIRED IMPORTED_TARGET libhwy)
+add_library(patchsim::highway INTERFACE IMPORTED)
+target_link_libraries(patchsim::highway INTERFACE PkgConfig::HWY)
+
 if(PATCHSIM_BUILD_TESTS)
   find_package(GTest REQUIRED)                 # libgtest-dev, libgmock-dev
 endif()

@@ -1,12 +1,12 @@
 #include "rasterizer/frame_rasterizer.h"
 
+#include <memory>
 #include <numeric>
 
 #include "pipeline/core/parallel.h"
 #include "pipeline/core/progress.h"
 #include "rasterizer/patch_merge.h"
-#include "rasterizer/tile_samples.h"
-#include "rasterizer/z_culling.h"
+#include "rasterizer/tile_bins.h"
 
 namespace patchsim {
 
@@ -50,6 +50,31 @@ std::vector<std::size_t> unitOrder(const RasterUnits& units,
     return result;
 }
 
+// The frame's groups in raster order: units in patch order, each unit's groups in turn.
+struct RasterOrder {
+    std::vector<std::size_t> unit;   // per group
+    std::vector<std::size_t> group;  // per group: its index in its unit
+    std::vector<TileRange> covered;  // per group
+};
+
+RasterOrder rasterOrder(const std::vector<std::size_t>& units,
+                        const std::vector<std::vector<PatchRasterizer::Group>>& groups) {
+    RasterOrder order;
+    for (std::size_t u : units)
+        for (std::size_t g = 0; g < groups[u].size(); ++g) {
+            order.unit.push_back(u);
+            order.group.push_back(g);
+            order.covered.push_back(groups[u][g].tiles);
+        }
+    return order;
+}
+
+// What one worker keeps across the tiles it takes.
+struct Worker {
+    std::unique_ptr<TileRays> rays;  // made on the worker's first tile
+    std::vector<RasterWork> work;    // per patch
+};
+
 }  // namespace
 
 FrameRasterWork rasterizeFrame(const std::vector<MovingMesh>& meshes,
@@ -66,36 +91,47 @@ FrameRasterWork rasterizeFrame(const std::vector<MovingMesh>& meshes,
     const RasterizerOptions& ro = rasterizer.options();
     const RasterUnits units =
         makeRasterUnits(meshes, ro.mergeTrianglesBelow, ro.trianglesPerGroup());
-    const std::vector<std::size_t> unitsInOrder = unitOrder(units, order);
     const auto groups = prepareGroups(units, rasterizer, options.threads, work.hierarchies);
-    const TileSamples tileSamples(rasterizer.tileGrid(), rasterizer.caster().camera,
-                                  rasterizer.caster().samples, options.threads);
-    TileDepthBounds depthBounds(rasterizer.tileGrid(), *targets.opaque);
-    // Tile work per row class and patch (fixed slots), added up in a fixed order afterwards.
-    std::vector<std::vector<RasterWork>> classWork(kRowClasses,
-                                                   std::vector<RasterWork>(meshes.size()));
-    const int tileRows = rasterizer.tileGrid().tilesY();
-    parallelFor(kRowClasses, options.threads, [&](int, std::size_t rowClassIndex) {
-        const int rowClass = int(rowClassIndex);
-        if (options.ownsRowClass && !options.ownsRowClass(rowClass)) return;
-        VisibilityTargets mine = targets;
-        mine.pool = rowClass;
-        mine.tileSamples = &tileSamples;
-        mine.depthBounds = &depthBounds;
-        for (std::size_t u : unitsInOrder) {
-            RasterWork& tileWork = classWork[rowClassIndex][units.firstPatch[u]];
-            for (const PatchRasterizer::Group& group : groups[u]) {
-                for (int ty = group.tiles.y0; ty < std::min(group.tiles.y1, tileRows); ++ty) {
-                    if (!inRowClass(ty, rowClass)) continue;
-                    for (int tx = group.tiles.x0; tx < group.tiles.x1; ++tx)
-                        rasterizer.rasterizeTile(*units.meshes[u], group, tx, ty, mine, tileWork);
-                }
+    const RasterOrder raster = rasterOrder(unitOrder(units, order), groups);
+    const TileGrid& grid = rasterizer.tileGrid();
+    const TileBins bins(grid, raster.covered);
+    const TileRayFrame frame{&rasterizer.camera(),
+                             rasterizer.lens(),
+                             {&rasterizer.samples(), options.sampleTable},
+                             rasterizer.samples().samplesPerPixel(),
+                             rasterizer.samples().effects().timeSamples(),
+                             grid.tileSize,
+                             targets.pixels != nullptr};
+    // One transparent-layer pool per worker.
+    const int threads = std::min(resolveThreadCount(options.threads), TransparentLayers::kPools);
+    std::vector<Worker> workers;
+    workers.resize(std::size_t(threads));
+    parallelFor(grid.tileCount(), threads, [&](int w, std::size_t t) {
+        const int tx = int(t % std::size_t(grid.tilesX())),
+                  ty = int(t / std::size_t(grid.tilesX()));
+        if (options.ownsRowClass && !options.ownsRowClass(ty % kRowClasses)) return;
+        const std::span<const std::uint32_t> bin = bins.groupsOf(t);
+        if (!bin.empty()) {
+            Worker& worker = workers[std::size_t(w)];
+            if (!worker.rays) {
+                worker.rays = std::make_unique<TileRays>(frame);
+                worker.work.resize(meshes.size());
             }
-            if (options.progress) options.progress->advance(std::int64_t(units.patchCount[u]));
+            TileRays& rays = *worker.rays;
+            rays.load(grid.rect(tx, ty), *targets.opaque);
+            VisibilityTargets mine = targets;
+            mine.pool = w;
+            for (std::uint32_t g : bin) {
+                const std::size_t u = raster.unit[g];
+                rasterizer.rasterizeTile(*units.meshes[u], groups[u][raster.group[g]], tx, ty, rays,
+                                         mine, worker.work[units.firstPatch[u]]);
+            }
+            rays.store(*targets.opaque, targets.pixels);
         }
+        if (options.progress) options.progress->advance();
     });
-    for (const auto& rows : classWork)
-        for (std::size_t i = 0; i < meshes.size(); ++i) work.tiles[i].add(rows[i]);
+    for (const Worker& worker : workers)
+        for (std::size_t i = 0; i < worker.work.size(); ++i) work.tiles[i].add(worker.work[i]);
     return work;
 }
 

@@ -1,14 +1,16 @@
 #pragma once
 // A whole frame through the patch rasterizer: every patch's groups and hierarchies, then every
-// tile those groups cover, on a fixed number of threads.
+// tile, each with every group that covers it, on a fixed number of threads.
 //
-// Threads and determinism: the screen's tile rows are dealt to `kRowClasses` classes (tile row ty
-// is class ty % kRowClasses), a number that does not depend on the thread count. One worker runs
-// a class at a time and walks every patch in order over the class's tiles, so a tile's z-buffer,
-// transparent layers and heat-map cells are touched by one worker only, in patch order: the image
-// and every count are the same on any number of threads. Each class owns one pool of transparent
-// layers. A frame can be split between processes (MPI ranks) by class: each rasterizes the classes
-// it owns, and the owners' rows and work are put together afterwards.
+// Threads and determinism: groups are binned to the tiles their screen bounds cover
+// (tile_bins.h), and a worker takes the next unfinished tile (dynamic scheduling): it makes the
+// tile's rays once (tile_rays.h), runs every group of the tile's bin in patch order, and writes
+// the tile's samples back. A tile is touched by one worker only, in patch order, and each
+// patch's work is a sum of integers, so the image and every count are the same on any number of
+// threads and in any schedule. A worker owns one pool of transparent layers (at most
+// TransparentLayers::kPools workers). A frame can be split between processes (MPI ranks) by the
+// class of a tile's row (row ty is class ty % kRowClasses): each rasterizes the tiles of the
+// classes it owns, and the owners' rows and work are put together afterwards.
 
 #include <cstddef>
 #include <functional>
@@ -27,9 +29,12 @@ inline constexpr int kRowClasses = TransparentLayers::kPools;
 struct FrameRasterOptions {
     int threads = 0;
     std::vector<std::size_t> order;  // patch order (index order when empty)
-    Progress* progress = nullptr;    // advanced once per patch and owned row class
+    Progress* progress = nullptr;    // advanced once per owned tile
     // The row classes this process rasterizes; all when empty.
     std::function<bool(int rowClass)> ownsRowClass;
+    // The frame's samples, made before (the rasterizer's generator makes them tile by tile when
+    // there is no table).
+    const SampleTable* sampleTable = nullptr;
 };
 
 // Each patch's work: building its hierarchies (every patch, whichever rows are owned) and its

@@ -6,24 +6,39 @@ namespace patchsim {
 
 namespace {
 
-Vec2 centroid(const MovingMesh& mesh, std::uint32_t triangle) {
+// A triangle with its domain centroid, the key the implicit-grid split orders by.
+struct Keyed {
+    Vec2 centroid;
+    std::uint32_t triangle;
+};
+
+Keyed keyed(const MovingMesh& mesh, std::uint32_t triangle) {
     const std::uint32_t* v = &mesh.indices[3 * std::size_t(triangle)];
-    return (mesh.domain[v[0]] + mesh.domain[v[1]] + mesh.domain[v[2]]) / 3.0f;
+    return {(mesh.domain[v[0]] + mesh.domain[v[1]] + mesh.domain[v[2]]) / 3.0f, triangle};
 }
 
-// Sorts [begin, end) by centroid u (even level) or v (odd level), ties by index, and recurses on
-// the two halves down to `levels` splits.
-void orderRange(const MovingMesh& mesh, std::uint32_t* begin, std::uint32_t* end, int level,
-                int levels) {
+// Splits [begin, end) at its middle by centroid u (even level) or v (odd level), ties by index,
+// and recurses on the two halves down to `levels` splits. Only the halves' contents matter (a
+// leaf's triangles are tested in any order), so a partition does the work of a sort.
+void orderRange(Keyed* begin, Keyed* end, int level, int levels) {
     if (levels == 0 || end - begin <= 1) return;
     const int axis = level & 1;
-    std::sort(begin, end, [&](std::uint32_t a, std::uint32_t b) {
-        const float ka = centroid(mesh, a)[axis], kb = centroid(mesh, b)[axis];
-        return ka < kb || (ka == kb && a < b);
+    Keyed* mid = begin + (end - begin + 1) / 2;
+    std::nth_element(begin, mid, end, [axis](const Keyed& a, const Keyed& b) {
+        const float ka = a.centroid[axis], kb = b.centroid[axis];
+        return ka < kb || (ka == kb && a.triangle < b.triangle);
     });
-    std::uint32_t* mid = begin + (end - begin + 1) / 2;
-    orderRange(mesh, begin, mid, level + 1, levels - 1);
-    orderRange(mesh, mid, end, level + 1, levels - 1);
+    orderRange(begin, mid, level + 1, levels - 1);
+    orderRange(mid, end, level + 1, levels - 1);
+}
+
+// `triangles` ordered by the implicit-grid split of `levels` levels.
+void orderTriangles(const MovingMesh& mesh, std::uint32_t* triangles, std::size_t count,
+                    int levels) {
+    std::vector<Keyed> keys(count);
+    for (std::size_t i = 0; i < count; ++i) keys[i] = keyed(mesh, triangles[i]);
+    orderRange(keys.data(), keys.data() + count, 0, levels);
+    for (std::size_t i = 0; i < count; ++i) triangles[i] = keys[i].triangle;
 }
 
 // [0, n) halved `levels` times the way orderRange splits it: 2^levels ranges, left to right.
@@ -56,7 +71,7 @@ void splitIntoGroups(const MovingMesh& mesh, int maxPerGroup, std::vector<std::u
     for (std::size_t i = 0; i < n; ++i) order[i] = std::uint32_t(i);
     const int levels =
         ceilLog2((n + std::size_t(maxPerGroup) - 1) / std::size_t(std::max(1, maxPerGroup)));
-    orderRange(mesh, order.data(), order.data() + n, 0, levels);
+    orderTriangles(mesh, order.data(), n, levels);
     // The same halving as orderRange, so group g is the g-th range at depth `levels`.
     groupBegin.assign(1, 0);
     for (auto [b, e] : halvedRanges(n, levels)) groupBegin.push_back(std::uint32_t(e));
@@ -73,7 +88,7 @@ void PatchHierarchy::build(const MovingMesh& mesh, const std::uint32_t* triangle
     const std::size_t leavesNeeded = (count + std::size_t(leafSize) - 1) / std::size_t(leafSize);
     depth_ = std::min(ceilLog2(std::max<std::size_t>(leavesNeeded, 1)), kMaxHierarchyDepth);
     triangles_.assign(triangles, triangles + count);
-    orderRange(mesh, triangles_.data(), triangles_.data() + count, 0, depth_);
+    orderTriangles(mesh, triangles_.data(), count, depth_);
     const int leaves = 1 << depth_;
     nodes_.assign(std::size_t(2 * leaves - 1), LBBox{});
     leafBegin_.assign(std::size_t(leaves) + 1, 0);

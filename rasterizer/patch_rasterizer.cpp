@@ -1,21 +1,23 @@
 #include "rasterizer/patch_rasterizer.h"
 
 #include "rasterizer/branch_node.h"
+#include "rasterizer/ray_stream.h"
 #include "rasterizer/screen_bounds.h"
 #include "rasterizer/tile_frustum.h"
 #include "rasterizer/tile_traversal.h"
-#include "rasterizer/z_culling.h"
 
 namespace patchsim {
 
 PatchRasterizer::PatchRasterizer(const Camera& camera, const LensModel& lens,
                                  const SampleGenerator& samples, const Effects& effects,
                                  const RasterizerOptions& options)
-    : caster_{camera, lens, samples, effects.motion, options.zCulling},
+    : camera_(camera),
+      lens_(lens),
+      samples_(samples),
       effects_(effects),
       options_(options),
       grid_{camera.width(), camera.height(), options.tileSize} {
-    if (!effects_.defocus) caster_.lens.radius = 0;
+    if (!effects_.defocus) lens_.radius = 0;
 }
 
 void PatchRasterizer::prepareGroup(const MovingMesh& mesh, const std::uint32_t* triangles,
@@ -26,34 +28,35 @@ void PatchRasterizer::prepareGroup(const MovingMesh& mesh, const std::uint32_t* 
     const auto bytes = std::int64_t(group.hierarchy.bytes());
     work.hierarchyBytes += bytes;
     work.peakHierarchyBytes = std::max(work.peakHierarchyBytes, bytes);
-    group.nodes.build(group.hierarchy, options_.boundsSpace, caster_.camera, caster_.lens, work);
+    group.nodes.build(group.hierarchy, options_.boundsSpace, camera_, lens_, work);
     // In 2D the nodes are already projected: the bounds are their rectangles' union.
     const ScreenBounds bounds =
         options_.boundsSpace == BoundsSpace::Screen2D
-            ? screenBounds(group.hierarchy, options_.boundsLevel, caster_.camera,
-                           group.nodes.screen)
-            : screenBounds(group.hierarchy, options_.boundsLevel, caster_.camera, caster_.lens);
+            ? screenBounds(group.hierarchy, options_.boundsLevel, camera_, group.nodes.screen)
+            : screenBounds(group.hierarchy, options_.boundsLevel, camera_, lens_);
     work.fullScreenBounds += bounds.fullScreen;
     group.tiles = tilesCovering(bounds, grid_);
 }
 
 void PatchRasterizer::rasterizeTile(const MovingMesh& mesh, const Group& group, int tileX,
-                                    int tileY, const VisibilityTargets& targets,
+                                    int tileY, TileRays& rays, const VisibilityTargets& targets,
                                     RasterWork& work) const {
     const TileRect tile = grid_.rect(tileX, tileY);
     ++work.tilesInBounds;
     if (targets.pixels) targets.pixels->countTileTest(tileX, tileY);
-    const float farDepth =
-        options_.zCulling ? targets.depthBounds->bound(tileX, tileY) : caster_.camera.farPlane();
+    const float farDepth = options_.zCulling ? rays.farthestDepthBound() : camera_.farPlane();
     const TileTraversal traversal =
-        traverseTile(group.hierarchy, group.nodes, {&caster_.camera, caster_.lens, tile, farDepth},
-                     effects_.motion, options_.timeRefinement, work);
+        traverseTile(group.hierarchy, group.nodes, {&camera_, lens_, tile, farDepth},
+                     effects_.motion, timeRefinementOf(options_), work);
     if (!traversal.overlaps) return;
     ++work.tilesOverlapping;
     const int branch = branchNode(options_.branchMethod, traversal, group.hierarchy.depth());
-    work.branchDepthSum += group.hierarchy.levelOf(branch);
-    traceTileSamples(caster_, mesh, group.hierarchy, tileX, tileY, traversal, branch, targets,
-                     work);
+    StreamPass pass{&mesh, &group.hierarchy, &traversal, branch, options_.zCulling};
+    if (!mesh.opaque && targets.transparent) {
+        pass.transparent = targets.transparent;
+        pass.pool = targets.pool;
+    }
+    traceRayStream(rays, pass, work);
 }
 
 }  // namespace patchsim

@@ -8,13 +8,14 @@
 //   4. tile frustum tests, time ranges  tile_frustum, tile_traversal
 //   5. branch node                      branch_node
 //   6. z culling                        z_culling
-//   7. per-sample rays, moving boxes,   sample_tracer, moving_box_ray, watertight_triangle
-//      watertight triangles
+//   7. per-sample rays, moving boxes,   tile_rays, ray_stream, moving_box_ray,
+//      watertight triangles             watertight_triangle
 //   8. visibility samples               visibility_buffer, transparent_layers
 //
 // This class ties them together: `prepareGroup` builds a group's hierarchy and finds the tiles its
-// screen bounds cover (steps 1-3); `rasterizeTile` runs steps 4-8 for one of those tiles. The frame
-// loop over patches, groups and tiles, and its threads, is frame_rasterizer's.
+// screen bounds cover (steps 1-3); `rasterizeTile` runs steps 4-8 for one of those tiles, on the
+// tile's rays. The frame loop over tiles and the groups covering each, and its threads, is
+// frame_rasterizer's.
 
 #include <vector>
 
@@ -24,9 +25,10 @@
 #include "pipeline/core/samples.h"
 #include "rasterizer/patch_hierarchy.h"
 #include "rasterizer/raster_work.h"
-#include "rasterizer/sample_tracer.h"
 #include "rasterizer/tile_grid.h"
+#include "rasterizer/tile_rays.h"
 #include "rasterizer/tile_traversal.h"
+#include "rasterizer/visibility_targets.h"
 
 namespace patchsim {
 
@@ -42,16 +44,22 @@ class PatchRasterizer {
     };
     void prepareGroup(const MovingMesh& mesh, const std::uint32_t* triangles, std::size_t count,
                       Group& group, RasterWork& work) const;
-    // `targets` must carry the frame's tile samples and tile depth bounds.
+    // `rays` holds the tile's rays and nearest hits (TileRays::load); transparent hits go to
+    // `targets.transparent` from pool `targets.pool`.
     void rasterizeTile(const MovingMesh& mesh, const Group& group, int tileX, int tileY,
-                       const VisibilityTargets& targets, RasterWork& work) const;
+                       TileRays& rays, const VisibilityTargets& targets, RasterWork& work) const;
 
     const RasterizerOptions& options() const { return options_; }
     const TileGrid& tileGrid() const { return grid_; }
-    const RayCaster& caster() const { return caster_; }
+    const Camera& camera() const { return camera_; }
+    const LensModel& lens() const { return lens_; }
+    const SampleGenerator& samples() const { return samples_; }
+    const Effects& effects() const { return effects_; }
 
   private:
-    RayCaster caster_;
+    const Camera& camera_;
+    LensModel lens_;
+    const SampleGenerator& samples_;
     Effects effects_;
     RasterizerOptions options_;
     TileGrid grid_;

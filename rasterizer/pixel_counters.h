@@ -49,6 +49,10 @@ class PixelCounters {
     const TileGrid& grid() const { return grid_; }
     // Adds the work done between `before` and `after` to pixel (x, y).
     void record(int x, int y, const RasterWork& before, const RasterWork& after);
+    // Adds `value` to quantity `quantity` (an index into kPixelQuantities) of pixel (x, y).
+    void add(int x, int y, std::size_t quantity, std::uint32_t value) {
+        values_[quantity][pixel(x, y)] += value;
+    }
     void countTileTest(int tx, int ty) { ++tileTests_[grid_.index(tx, ty)]; }
 
     const std::vector<std::uint32_t>& values(std::size_t quantity) const {

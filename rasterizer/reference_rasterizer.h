@@ -12,7 +12,8 @@
 #include "pipeline/core/ray.h"
 #include "pipeline/core/samples.h"
 #include "rasterizer/moving_mesh.h"
-#include "rasterizer/sample_tracer.h"
+#include "rasterizer/sample_rays.h"
+#include "rasterizer/visibility_targets.h"
 
 namespace patchsim {
 

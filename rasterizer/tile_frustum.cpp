@@ -83,33 +83,39 @@ bool overlapsFrustum(const TileFrustum& f, const LBBox& box, bool motion, Raster
             outside = outsideAtBothEnds(f.sides[side][k], box, motion, work);
         if (outside) return false;
     }
-    if (f.testNearFar) {
-        if (outsideAtBothEnds(f.nearPlane, box, motion, work)) return false;
-        if (outsideAtBothEnds(f.farPlane, box, motion, work)) return false;
-    }
-    return true;
+    return !(f.testNearFar && outsideNearOrFar(f, box, motion, work));
 }
+
+bool outsideNearOrFar(const TileFrustum& f, const LBBox& box, bool motion, RasterWork& work) {
+    return outsideAtBothEnds(f.nearPlane, box, motion, work) ||
+           outsideAtBothEnds(f.farPlane, box, motion, work);
+}
+
+namespace {
+
+// Narrows `times` to when the box may be inside some of `planes` (for some lens position along a
+// side when inside either extreme plane: the union of the two intervals, bounded by their hull).
+bool narrow(const Plane* planes, int count, const LBBox& box, TimeRange& times, RasterWork& work) {
+    TimeRange side = TimeRange::empty();
+    for (int k = 0; k < count; ++k) {
+        TimeRange inside;
+        if (insideInterval(planes[k], box, inside, work)) side.extend(inside);
+    }
+    times.intersect(side);
+    return !times.isEmpty();
+}
+
+}  // namespace
 
 bool leafTimeInterval(const TileFrustum& f, const LBBox& box, TimeRange& times, RasterWork& work) {
     if (box.empty()) return false;
-    auto narrow = [&](const Plane* planes, int count) {
-        // Inside for some lens position along this side when inside either extreme plane: the
-        // union of the two intervals, bounded by their hull.
-        TimeRange side = TimeRange::empty();
-        for (int k = 0; k < count; ++k) {
-            TimeRange inside;
-            if (insideInterval(planes[k], box, inside, work)) side.extend(inside);
-        }
-        times.intersect(side);
-        return !times.isEmpty();
-    };
     for (int side = 0; side < 4; ++side)
-        if (!narrow(f.sides[side], f.planesPerSide)) return false;
-    if (f.testNearFar) {
-        if (!narrow(&f.nearPlane, 1)) return false;
-        if (!narrow(&f.farPlane, 1)) return false;
-    }
-    return true;
+        if (!narrow(f.sides[side], f.planesPerSide, box, times, work)) return false;
+    return !f.testNearFar || narrowToNearFar(f, box, times, work);
+}
+
+bool narrowToNearFar(const TileFrustum& f, const LBBox& box, TimeRange& times, RasterWork& work) {
+    return narrow(&f.nearPlane, 1, box, times, work) && narrow(&f.farPlane, 1, box, times, work);
 }
 
 bool insideNearFar(const TileFrustum& f, const LBBox& box, RasterWork& work) {

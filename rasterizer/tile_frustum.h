@@ -63,6 +63,11 @@ bool overlapsFrustum(const TileFrustum& f, const LBBox& box, bool motion, Raster
 // the moving box can be inside; false when outside at all times.
 bool leafTimeInterval(const TileFrustum& f, const LBBox& box, TimeRange& times, RasterWork& work);
 
+// The near and far planes' parts of the two tests above (for walks that test the sides their own
+// way): outside either at both ends; times narrowed to inside both.
+bool outsideNearOrFar(const TileFrustum& f, const LBBox& box, bool motion, RasterWork& work);
+bool narrowToNearFar(const TileFrustum& f, const LBBox& box, TimeRange& times, RasterWork& work);
+
 // True when the whole moving box is inside the near and far planes at t=0 and t=1 (p-vertex
 // test): then only the four sides need testing.
 bool insideNearFar(const TileFrustum& f, const LBBox& box, RasterWork& work);

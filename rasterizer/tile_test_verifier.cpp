@@ -176,6 +176,8 @@ constexpr int kBoundsLevels = 4;
 std::vector<std::string> hierarchyCheckNames() {
     std::vector<std::string> names;
     for (BoundsSpace s : kSpaces) names.push_back(std::string("traversal-") + boundsSpaceName(s));
+    for (BoundsSpace s : kSpaces)
+        names.push_back(std::string("traversal-") + boundsSpaceName(s) + "-every-level");
     for (BranchMethod m : kBranchMethods)
         names.push_back(std::string("branch-") + branchMethodName(m));
     for (int l = 0; l < kBoundsLevels; ++l) names.push_back("bounds-level-" + std::to_string(l));
@@ -222,11 +224,14 @@ CheckResult judgeTraversal(const HierarchyCase& c, const HierarchyTruth& truth,
         r.outcome = t.overlaps ? Outcome::FalseAccept : Outcome::TrueReject;
         return r;
     }
+    // Every leaf the truth hits is kept, and its own time interval (which gates the rays that
+    // reach it) covers the truth's.
     bool missed = (truth.hitLeaves & ~t.leafMask) != 0;
     for (int leaf = 0; leaf < c.hierarchy.leafCount() && !missed; ++leaf)
         if (truth.hitLeaves >> leaf & 1)
-            missed = t.times.lower > truth.leafTimes[std::size_t(leaf)].lower ||
-                     t.times.upper < truth.leafTimes[std::size_t(leaf)].upper;
+            missed =
+                t.leafTimes[std::size_t(leaf)].lower > truth.leafTimes[std::size_t(leaf)].lower ||
+                t.leafTimes[std::size_t(leaf)].upper < truth.leafTimes[std::size_t(leaf)].upper;
     r.outcome = missed ? Outcome::FalseReject : Outcome::TrueAccept;
     if (!missed) r.excess = width(t.times) - width(truth.times);
     return r;
@@ -276,14 +281,16 @@ std::vector<CheckResult> hierarchyChecks(const HierarchyCase& c, const Hierarchy
     const Camera& camera = verifierCamera();
     TileTraversal cameraSpace;
     SpaceNodes nodes;
-    for (BoundsSpace s : kSpaces) {
-        RasterWork work;
-        nodes.build(c.hierarchy, s, camera, c.lens, work);
-        const TileTraversal t = traverseTile(
-            c.hierarchy, nodes, {&camera, c.lens, c.tile(), camera.farPlane()}, true, true, work);
-        if (s == BoundsSpace::Camera3D) cameraSpace = t;
-        results.push_back(judgeTraversal(c, truth, t));
-    }
+    for (TimeRefinement refine : {TimeRefinement::Leaves, TimeRefinement::EveryLevel})
+        for (BoundsSpace s : kSpaces) {
+            RasterWork work;
+            nodes.build(c.hierarchy, s, camera, c.lens, work);
+            const TileTraversal t =
+                traverseTile(c.hierarchy, nodes, {&camera, c.lens, c.tile(), camera.farPlane()},
+                             true, refine, work);
+            if (s == BoundsSpace::Camera3D && refine == TimeRefinement::Leaves) cameraSpace = t;
+            results.push_back(judgeTraversal(c, truth, t));
+        }
     for (BranchMethod m : kBranchMethods)
         results.push_back(judgeBranch(
             c, truth, cameraSpace.overlaps ? branchNode(m, cameraSpace, c.hierarchy.depth()) : 0));

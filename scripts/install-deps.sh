@@ -6,7 +6,7 @@ packages=(
   build-essential cmake ninja-build pkg-config fonts-dejavu-core
   libosd-dev libglm-dev libopenimageio-dev nlohmann-json3-dev libcli11-dev
   libgtest-dev libgmock-dev libbenchmark-dev valgrind
-  libopenmpi-dev openmpi-bin libembree-dev python3-matplotlib
+  libopenmpi-dev openmpi-bin libembree-dev libhwy-dev python3-matplotlib
 )
 
 missing=()

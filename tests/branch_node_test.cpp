@@ -60,7 +60,8 @@ TEST(BranchNode, BitmaskIsNeverAboveFirstSplitOnARealScene) {
             for (int tx = group.tiles.x0; tx < group.tiles.x1; ++tx) {
                 const TileFrustum frustum = makeTileFrustum(
                     fe.camera(), lens, rasterizer.tileGrid().rect(tx, ty), fe.camera().farPlane());
-                const TileTraversal t = traverseTile(group.hierarchy, frustum, true, true, work);
+                const TileTraversal t =
+                    traverseTile(group.hierarchy, frustum, true, TimeRefinement::Leaves, work);
                 if (!t.overlaps) continue;
                 ++compared;
                 const int bitmask = branchNode(BranchMethod::Bitmask, t, group.hierarchy.depth());

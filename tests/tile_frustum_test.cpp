@@ -79,13 +79,13 @@ TEST(TileTraversal, ReportsLeavesTimesAndWhyATileWasRejected) {
     h.build(mesh, tris, 2, 1);
     ASSERT_EQ(h.leafCount(), 2);
     RasterWork work;
-    const TileTraversal centre =
-        traverseTile(h, makeTileFrustum(camera, {}, {28, 28, 36, 36}, 1000), true, true, work);
+    const TileTraversal centre = traverseTile(
+        h, makeTileFrustum(camera, {}, {28, 28, 36, 36}, 1000), true, TimeRefinement::Leaves, work);
     EXPECT_TRUE(centre.overlaps);
     EXPECT_EQ(centre.leafMask, 1u);
     EXPECT_GT(centre.times.lower, 0.4f);
-    const TileTraversal corner =
-        traverseTile(h, makeTileFrustum(camera, {}, {0, 0, 8, 8}, 1000), true, true, work);
+    const TileTraversal corner = traverseTile(h, makeTileFrustum(camera, {}, {0, 0, 8, 8}, 1000),
+                                              true, TimeRefinement::Leaves, work);
     EXPECT_FALSE(corner.overlaps);
     EXPECT_EQ(work.tilesRejectedSpace + work.tilesRejectedTime, 1);
 }

@@ -291,7 +291,9 @@ int runRender(const RenderCommand& r, const MpiContext& mpi) {
                      {"branch method", branchMethodName(o.branchMethod)},
                      {"bounds space", boundsSpaceName(o.boundsSpace)},
                      {"merge triangles below", std::to_string(o.mergeTrianglesBelow)},
-                     {"time refinement", o.timeRefinement ? "on" : "off"},
+                     {"time refinement", !o.timeRefinement          ? "off"
+                                         : o.interiorTimeRefinement ? "every level"
+                                                                    : "leaves"},
                      {"z culling", o.zCulling ? "on" : "off"}};
     context.facts.push_back(
         {"hardware", r.hardware.empty() ? "builtin:hw/default.json" : r.hardware});

@@ -32,7 +32,10 @@ struct RasterizerOptions {
     BranchMethod branchMethod = BranchMethod::Bitmask;
     BoundsSpace boundsSpace = BoundsSpace::Camera3D;
     bool timeRefinement = true;  // narrow [tmin, tmax] at the leaves
-    bool zCulling = true;        // tile far plane and ray tmax from the z-buffer
+    // With time refinement: narrow it at interior nodes too, so a subtree that is only near the
+    // tile at other times is rejected without visiting its leaves (the patent narrows at leaves).
+    bool interiorTimeRefinement = true;
+    bool zCulling = true;  // tile far plane and ray tmax from the z-buffer
     // Larger patches are split into groups of at most this many triangles; 0: as many as a
     // hierarchy of 64 leaves holds (64 x leafSize), at most 256.
     int maxTrianglesPerGroup = 0;

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "pipeline/core/parallel.h"
+
 namespace patchsim {
 
 std::uint64_t mix64(std::uint64_t x) {
@@ -65,27 +67,31 @@ SampleGenerator::SampleGenerator(std::uint64_t seed, int samplesPerPixel, const 
     if (side * side == samplesPerPixel) gridSide_ = side;
 }
 
-Sample SampleGenerator::sample(int x, int y, int index) const {
-    // Interleaved: every pixel draws from the stream of pixel (0, 0).
+SampleGenerator::PixelStreams SampleGenerator::pixelStreams(int x, int y) const {
+    // Interleaved: every pixel draws from the streams of pixel (0, 0).
     if (pattern_ == SamplePattern::Interleaved) x = y = 0;
     const std::uint64_t pixelKey =
         mix64(seed_ ^ mix64((std::uint64_t(std::uint32_t(x)) << 32) | std::uint32_t(y)));
-    auto stream = [&](std::uint64_t dimension) {
-        return mix64(pixelKey ^ (dimension * 0xd1b54a32d192ed03ull));
-    };
+    PixelStreams p;
+    for (std::uint64_t d = 0; d < 12; ++d)
+        p.dimension[d] = mix64(pixelKey ^ (d * 0xd1b54a32d192ed03ull));
+    return p;
+}
+
+Sample SampleGenerator::sampleOf(const PixelStreams& p, int index) const {
     const bool grid = pattern_ == SamplePattern::Grid;
-    auto jitter = [&](std::uint64_t dimension) {
-        return grid ? 0.0f : toUnit(mix64(stream(dimension) ^ std::uint64_t(index)));
+    auto jitter = [&](int dimension) {
+        return grid ? 0.0f : toUnit(mix64(p.dimension[dimension] ^ std::uint64_t(index)));
     };
     const auto n = std::uint32_t(spp_);
     const auto i = std::uint32_t(index);
     // Stratum of this sample in a dimension: a per-pixel permutation of the sample index.
-    auto stratum = [&](std::uint64_t dimension) {
-        return float(permute(i, n, std::uint32_t(stream(dimension) >> 32)));
+    auto stratum = [&](int dimension) {
+        return float(permute(i, n, std::uint32_t(p.dimension[dimension] >> 32)));
     };
     Sample s;
     if (gridSide_ > 0) {
-        const std::uint32_t cell = permute(i, n, std::uint32_t(stream(1)));
+        const std::uint32_t cell = permute(i, n, std::uint32_t(p.dimension[1]));
         s.pixelOffset = {(float(cell % std::uint32_t(gridSide_)) + jitter(2)) / float(gridSide_),
                          (float(cell / std::uint32_t(gridSide_)) + jitter(3)) / float(gridSide_)};
     } else {
@@ -104,6 +110,15 @@ Sample SampleGenerator::sample(int x, int y, int index) const {
     return s;
 }
 
+Sample SampleGenerator::sample(int x, int y, int index) const {
+    return sampleOf(pixelStreams(x, y), index);
+}
+
+void SampleGenerator::pixelSamples(int x, int y, Sample* out) const {
+    const PixelStreams streams = pixelStreams(x, y);
+    for (int s = 0; s < spp_; ++s) out[s] = sampleOf(streams, s);
+}
+
 Vec2 concentricDisk(const Vec2& u) {
     const Vec2 o = 2.0f * u - Vec2(1.0f);
     if (o.x == 0 && o.y == 0) return Vec2(0);
@@ -117,6 +132,35 @@ Vec2 concentricDisk(const Vec2& u) {
         theta = 2 * kPiOver4 - kPiOver4 * (o.x / o.y);
     }
     return r * Vec2(std::cos(theta), std::sin(theta));
+}
+
+SampleTable::SampleTable(const SampleGenerator& generator, int width, int height, int threads)
+    : width_(width),
+      spp_(generator.samplesPerPixel()),
+      samples_(std::size_t(width) * std::size_t(height) * std::size_t(spp_)),
+      disk_(samples_.size()) {
+    parallelFor(std::size_t(height), threads, [&](int, std::size_t row) {
+        const int y = int(row);
+        for (int x = 0; x < width; ++x) {
+            const std::size_t first = index(x, y);
+            generator.pixelSamples(x, y, &samples_[first]);
+            for (int s = 0; s < spp_; ++s)
+                disk_[first + std::size_t(s)] =
+                    concentricDisk(samples_[first + std::size_t(s)].lens);
+        }
+    });
+}
+
+void SampleSource::pixel(int x, int y, Sample* samples, Vec2* disk) const {
+    if (table) {
+        const int spp = table->samplesPerPixel();
+        std::copy_n(table->pixel(x, y), spp, samples);
+        std::copy_n(table->disk(x, y), spp, disk);
+        return;
+    }
+    generator->pixelSamples(x, y, samples);
+    for (int s = 0; s < generator->samplesPerPixel(); ++s)
+        disk[s] = concentricDisk(samples[s].lens);
 }
 
 }  // namespace patchsim

@@ -12,6 +12,7 @@
 // maps to the disk with Shirley's concentric mapping.
 
 #include <cstdint>
+#include <vector>
 
 #include "pipeline/core/effects.h"
 #include "pipeline/core/math.h"
@@ -40,10 +41,19 @@ class SampleGenerator {
                     SamplePattern pattern = SamplePattern::Stratified, float stillTime = 0.0f);
 
     Sample sample(int x, int y, int index) const;
+    // All `samplesPerPixel()` samples of pixel (x, y), equal to sample(x, y, 0..): the pixel's hash
+    // streams are made once for all of them.
+    void pixelSamples(int x, int y, Sample* out) const;
     int samplesPerPixel() const { return spp_; }
     const Effects& effects() const { return effects_; }
 
   private:
+    struct PixelStreams {
+        std::uint64_t dimension[12];  // one hash stream per sample dimension
+    };
+    PixelStreams pixelStreams(int x, int y) const;
+    Sample sampleOf(const PixelStreams& streams, int index) const;
+
     std::uint64_t seed_;
     int spp_;
     int gridSide_;  // > 0 when spp is a perfect square
@@ -54,6 +64,33 @@ class SampleGenerator {
 
 // Shirley-Chiu concentric map of [0,1)^2 to the unit disk.
 Vec2 concentricDisk(const Vec2& u);
+
+// A frame's samples made once, pixel-major like the visibility buffer, each with its lens point
+// mapped to the disk. Methods compared on the same samples read them from here, so what is timed
+// is their visibility work, not the sampler (bench/embree_compare_bench.cpp).
+class SampleTable {
+  public:
+    SampleTable(const SampleGenerator& generator, int width, int height, int threads);
+    int samplesPerPixel() const { return spp_; }
+    const Sample* pixel(int x, int y) const { return &samples_[index(x, y)]; }
+    const Vec2* disk(int x, int y) const { return &disk_[index(x, y)]; }
+
+  private:
+    std::size_t index(int x, int y) const {
+        return (std::size_t(y) * std::size_t(width_) + std::size_t(x)) * std::size_t(spp_);
+    }
+    int width_, spp_;
+    std::vector<Sample> samples_;
+    std::vector<Vec2> disk_;
+};
+
+// Where the rasterizer reads a pixel's samples: the table when there is one, else the generator.
+struct SampleSource {
+    const SampleGenerator* generator = nullptr;
+    const SampleTable* table = nullptr;
+    // The pixel's samples and their lens points on the disk.
+    void pixel(int x, int y, Sample* samples, Vec2* disk) const;
+};
 
 // A 64-bit mix (SplitMix64 finaliser) used for all sample hashing.
 std::uint64_t mix64(std::uint64_t x);

@@ -167,8 +167,8 @@ Visibility runVisibility(const SceneDesc& scene, const RenderOptions& options,
         const PatchRasterizer rasterizer(camera, lens, samples, effects, scene.rasterizer);
         const std::unique_ptr<ProgressShare> progressShare =
             share.progressShare ? share.progressShare() : nullptr;
-        Progress progress("visibility", std::int64_t(count) * kRowClasses, kRowClasses,
-                          options.progress, "patches", progressShare.get());
+        Progress progress("visibility", std::int64_t(rasterizer.tileGrid().tileCount()), 1,
+                          options.progress, "tiles", progressShare.get());
         frame.progress = &progress;
         FrameRasterWork work = rasterizeFrame(fe.meshes, rasterizer, targets, frame);
         progress.finish();

@@ -1,0 +1,595 @@
+// The ray kernels, compiled once per SIMD target (Highway's foreach_target re-includes this file).
+#undef HWY_TARGET_INCLUDE
+#define HWY_TARGET_INCLUDE "rasterizer/ray_stream.cpp"
+#include "rasterizer/ray_stream.h"
+
+#include <hwy/foreach_target.h>  // must come before highway.h
+#include <hwy/highway.h>
+
+#include <bit>
+#include <cstdint>
+
+#include "rasterizer/conservative_margins.h"
+#include "rasterizer/z_culling.h"
+
+HWY_BEFORE_NAMESPACE();
+namespace patchsim {
+namespace HWY_NAMESPACE {
+namespace hn = hwy::HWY_NAMESPACE;
+
+using DF = hn::CappedTag<float, kMaxLanes>;
+using DI = hn::RebindToSigned<DF>;
+using DU = hn::RebindToUnsigned<DF>;
+using VF = hn::Vec<DF>;
+using VI = hn::Vec<DI>;
+using VU = hn::Vec<DU>;
+using MF = hn::Mask<DF>;
+
+HWY_INLINE MF maskOf(DF d, std::uint16_t bits) {
+    const std::uint8_t bytes[8] = {std::uint8_t(bits & 0xffu), std::uint8_t(bits >> 8)};
+    return hn::LoadMaskBits(d, bytes);
+}
+
+HWY_INLINE std::uint16_t bitsOf(DF d, MF m) {
+    std::uint8_t bytes[8] = {};
+    hn::StoreMaskBits(d, m, bytes);
+    return std::uint16_t(bytes[0] | bytes[1] << 8);
+}
+
+// lanes[axis] for a per-lane axis index (0, 1 or 2).
+HWY_INLINE VF axisOf(DI di, VI axis, VF x, VF y, VF z) {
+    const DF d;
+    return hn::IfThenElse(hn::RebindMask(d, hn::Eq(axis, hn::Zero(di))), x,
+                          hn::IfThenElse(hn::RebindMask(d, hn::Eq(axis, hn::Set(di, 1))), y, z));
+}
+
+// The rays of one vector, loaded once for a leaf's triangles.
+struct LaneRays {
+    VF time, weight0, originX, originY, shearX, shearY, shearZ, end;
+    VI axisX, axisY, axisZ;
+    bool alongZ;  // every lane shears along z (kx = 1, ky = 0, kz = 2)
+};
+
+struct TriangleHits {
+    MF hit;
+    VF lambda, b1, b2;
+};
+
+// One pass of one group over one tile (ray_stream.h). kEveryHit: a transparent mesh, every hit
+// goes to the layers. kCount: per-sample work is kept for heat maps.
+//
+// The rays at each level of the descent are a list of sample indices (TileRays::levelList), packed
+// by vector compression, so every vector of rays tested against a box is full however few rays
+// reach that box; the rays' data is gathered by index.
+template <bool kEveryHit, bool kCount>
+class Pass {
+  public:
+    Pass(TileRays& rays, const StreamPass& pass, RasterWork& work)
+        : rays_(rays),
+          pass_(pass),
+          h_(*pass.hierarchy),
+          mesh_(*pass.mesh),
+          work_(work),
+          lanes_(int(hn::Lanes(d_))) {}
+
+    void run() {
+        const TileTraversal& traversal = *pass_.traversal;
+        nodeTimes(traversal.leafMask);
+        const int start = pass_.branchNode;
+        work_.branchDepthSum += h_.levelOf(start);
+        int first, last;
+        rays_.indexRange(times_[start], first, last);
+        for (int b = first / kMaxLanes; b < (last + kMaxLanes - 1) / kMaxLanes; ++b)
+            rays_.passImproved()[b] = 0;
+        std::int64_t tested = 0;
+        const int n = startRays(times_[start], first, last, start, tested);
+        if (n > 0) descend(start, rays_.levelList(1, 0), n, 1);
+        work_.samplesTested += tested;
+        work_.samplesRejectedTime += std::int64_t(rays_.count()) - tested;
+        work_.raysCast += tested;
+        work_.rayBoxTests += boxTests_;
+        work_.rayTriangleTests += triangleTests_;
+        finish(first, last);
+    }
+
+  private:
+    // Each node's time range: the union (hull) of the intervals of its leaves in `leaves`; empty
+    // when it has none.
+    void nodeTimes(std::uint64_t leaves) {
+        const TileTraversal& t = *pass_.traversal;
+        const int first = PatchHierarchy::firstLeaf(h_.depth());
+        for (int j = 0; j < h_.leafCount(); ++j)
+            times_[first + j] =
+                (leaves >> j & 1u) ? t.leafTimes[std::size_t(j)] : TimeRange::empty();
+        for (int i = first - 1; i >= 0; --i) {
+            times_[i] = times_[2 * i + 1];
+            times_[i].extend(times_[2 * i + 2]);
+        }
+    }
+
+    // The rays of a segment are its samples (indices [first, last)) whose time is in `hull`,
+    // each ending at its depth bound; those that meet the start node's box go to the level-1
+    // list. Returns its length; `tested` gets the rays.
+    int startRays(TimeRange hull, int first, int last, int start, std::int64_t& tested) {
+        const VF lower = hn::Set(d_, hull.lower), upper = hn::Set(d_, hull.upper);
+        const VF far = hn::Set(d_, rays_.farDepth());
+        const VF perLambda = hn::Set(d_, rays_.depthPerLambda());
+        const VF widen = hn::Set(d_, 1.0f + kDepthTieWidening);
+        const bool toDepth = pass_.zCulling || kEveryHit;
+        const VF farEnd = hn::Set(d_, rayEndAtDepth(rays_.farDepth(), rays_.depthPerLambda()));
+        const VI firstIndex = hn::Set(di_, first), lastIndex = hn::Set(di_, last);
+        const LBBox& box = h_.node(start);
+        std::int32_t* out = rays_.levelList(1, 0);
+        int count = 0;
+        for (int at = first / lanes_ * lanes_; at < last; at += lanes_) {
+            const VI index = hn::Add(hn::Iota(di_, 0), hn::Set(di_, at));
+            const MF mine =
+                hn::RebindMask(d_, hn::AndNot(hn::Lt(index, firstIndex), hn::Lt(index, lastIndex)));
+            const VF t = hn::Load(d_, rays_.time + at);
+            const MF m = hn::And(mine, hn::And(hn::Ge(t, lower), hn::Le(t, upper)));
+            if (toDepth) {
+                const VF depth = hn::Load(d_, rays_.bestDepth + at);
+                const VF bound = hn::IfThenElse(hn::Lt(depth, far), depth, far);
+                hn::BlendedStore(hn::Mul(hn::Div(bound, perLambda), widen), mine, d_,
+                                 rays_.rayEnd + at);
+            } else {
+                hn::BlendedStore(farEnd, mine, d_, rays_.rayEnd + at);
+            }
+            const std::size_t n = hn::CountTrue(d_, m);
+            if (n == 0) continue;
+            tested += std::int64_t(n);
+            if (kCount) {
+                addWork(SampleWork::Tested, index, m, 1);
+                addWork(SampleWork::Rays, index, m, 1);
+                addWork(SampleWork::BoxTests, index, m, 1);
+            }
+            MF hit = hn::And(m, hitsBox(box, SlabLanes::contiguous(d_, rays_, std::size_t(at))));
+            if (rays_.anyParallel()) hit = parallelLanes(box, index, m, hit);
+            hn::StoreU(hn::Compress(index, hn::RebindMask(di_, hit)), di_, out + count);
+            count += int(hn::CountTrue(d_, hit));
+        }
+        boxTests_ += tested;
+        return count;
+    }
+
+    // A vector of lanes of list entries [i, i + lanes), the tail masked off.
+    VI indicesAt(const std::int32_t* list, int i, int n, MF& valid) const {
+        valid = hn::FirstN(d_, std::size_t(std::min(lanes_, n - i)));
+        return hn::IfThenElseZero(hn::RebindMask(di_, valid), hn::LoadU(di_, list + i));
+    }
+
+    void addWork(SampleWork what, VI index, MF m, std::uint32_t amount) {
+        alignas(64) std::int32_t lanes[kMaxLanes];
+        hn::Store(index, di_, lanes);
+        std::uint32_t* counts = rays_.work[std::size_t(what)];
+        for (std::uint16_t rest = bitsOf(d_, m); rest; rest &= std::uint16_t(rest - 1))
+            counts[lanes[std::countr_zero(rest)]] += amount;
+    }
+
+    // The slab-test constants of a vector of rays.
+    struct SlabLanes {
+        VF a[3], b[3], c[2], end;
+        static SlabLanes contiguous(DF d, const TileRays& r, std::size_t at) {
+            SlabLanes s;
+            for (int k = 0; k < 3; ++k) {
+                s.a[k] = hn::Load(d, r.slabA[k] + at);
+                s.b[k] = hn::Load(d, r.slabB[k] + at);
+            }
+            s.c[0] = hn::Load(d, r.slabC[0] + at);
+            s.c[1] = hn::Load(d, r.slabC[1] + at);
+            s.end = hn::Load(d, r.rayEnd + at);
+            return s;
+        }
+        static SlabLanes gathered(DF d, const TileRays& r, VI index) {
+            SlabLanes s;
+            for (int k = 0; k < 3; ++k) {
+                s.a[k] = hn::GatherIndex(d, r.slabA[k], index);
+                s.b[k] = hn::GatherIndex(d, r.slabB[k], index);
+            }
+            s.c[0] = hn::GatherIndex(d, r.slabC[0], index);
+            s.c[1] = hn::GatherIndex(d, r.slabC[1], index);
+            s.end = hn::GatherIndex(d, r.rayEnd, index);
+            return s;
+        }
+    };
+
+    // A child's box test: its box, time range and output list.
+    struct ChildTest {
+        const LBBox* box;
+        VF lower, upper;
+        std::int32_t* out;
+        int count = 0;
+    };
+
+    ChildTest childTest(int node, std::int32_t* out) const {
+        const TimeRange range = times_[node];
+        return {&h_.node(node), hn::Set(d_, range.lower), hn::Set(d_, range.upper), out};
+    }
+
+    // One vector of rays (`index`, `valid`, data `s` at times `t`) against one child: those whose
+    // time is in its range and that meet its box are appended to its list.
+    void testChild(ChildTest& c, VI index, MF valid, VF t, const SlabLanes& s) {
+        const MF active = hn::And(valid, hn::And(hn::Ge(t, c.lower), hn::Le(t, c.upper)));
+        const std::size_t tests = hn::CountTrue(d_, active);
+        if (tests == 0) return;
+        boxTests_ += std::int64_t(tests);
+        if (kCount) addWork(SampleWork::BoxTests, index, active, 1);
+        MF hit = hn::And(active, hitsBox(*c.box, s));
+        if (rays_.anyParallel()) hit = parallelLanes(*c.box, index, active, hit);
+        hn::StoreU(hn::Compress(index, hn::RebindMask(di_, hit)), di_, c.out + c.count);
+        c.count += int(hn::CountTrue(d_, hit));
+    }
+
+    // The rays of `in` (n of them) against the live ones of `children` (1 or 2): each ray's data
+    // is gathered once for both boxes.
+    void filter(const std::int32_t* in, int n, ChildTest* children, int count) {
+        for (int i = 0; i < n; i += lanes_) {
+            MF valid;
+            const VI index = indicesAt(in, i, n, valid);
+            const VF t = hn::GatherIndex(d_, rays_.time, index);
+            const SlabLanes s = SlabLanes::gathered(d_, rays_, index);
+            for (int c = 0; c < count; ++c) testChild(children[c], index, valid, t, s);
+        }
+    }
+
+    // The 12-multiply-add test of moving_box_ray.h, lane by lane, in the same operations.
+    MF hitsBox(const LBBox& box, const SlabLanes& s) const {
+        VF nearest = hn::Set(d_, rays_.lambdaMin());
+        VF farthest = s.end;
+        for (int k = 0; k < 3; ++k) {
+            VF e0 = hn::Add(hn::Mul(hn::Set(d_, box.bounds0.lower[k]), s.a[k]),
+                            hn::Mul(hn::Set(d_, box.bounds1.lower[k]), s.b[k]));
+            VF e1 = hn::Add(hn::Mul(hn::Set(d_, box.bounds0.upper[k]), s.a[k]),
+                            hn::Mul(hn::Set(d_, box.bounds1.upper[k]), s.b[k]));
+            if (k < 2) {  // the origin is on the lens plane: c is 0 along z
+                e0 = hn::Add(e0, s.c[k]);
+                e1 = hn::Add(e1, s.c[k]);
+            }
+            nearest = hn::Max(nearest, hn::Min(e0, e1));
+            farthest = hn::Min(farthest, hn::Max(e0, e1));
+        }
+        const VF slack = hn::Mul(hn::Set(d_, kRayBoxRelativeSlack),
+                                 hn::Add(hn::Abs(nearest), hn::Abs(farthest)));
+        return hn::Le(nearest,
+                      hn::Add(hn::Add(farthest, slack), hn::Set(d_, kRayBoxAbsoluteSlack)));
+    }
+
+    // Rays parallel to an axis take the scalar test.
+    MF parallelLanes(const LBBox& box, VI index, MF active, MF hit) const {
+        alignas(64) std::int32_t lanes[kMaxLanes];
+        hn::Store(index, di_, lanes);
+        std::uint16_t bits = bitsOf(d_, hit);
+        for (std::uint16_t rest = bitsOf(d_, active); rest; rest &= std::uint16_t(rest - 1)) {
+            const int lane = std::countr_zero(rest);
+            const int i = lanes[lane];
+            if (!rays_.parallelAxes[i]) continue;
+            const auto bit = std::uint16_t(1u << lane);
+            bits = hitsMovingBox(rays_.slabRay(i), box) ? std::uint16_t(bits | bit)
+                                                        : std::uint16_t(bits & ~bit);
+        }
+        return maskOf(d_, bits);
+    }
+
+    // The rays of `in` (n of them, at `level`) met `node`: both children are tested together,
+    // then visited nearer first; only children a leaf of which overlaps the tile.
+    void descend(int node, const std::int32_t* in, int n, int level) {
+        if (h_.isLeaf(node)) {
+            leaf(node, in, n);
+            return;
+        }
+        int first = 2 * node + 1, second = 2 * node + 2;
+        // The camera looks down -z: the box reaching higher z (at mid-shutter) is nearer.
+        const LBBox &a = h_.node(first), &b = h_.node(second);
+        if (b.bounds0.upper.z + b.bounds1.upper.z > a.bounds0.upper.z + a.bounds1.upper.z)
+            std::swap(first, second);
+        ChildTest tests[2];
+        int nodes[2], count = 0;
+        for (int child : {first, second}) {
+            if (times_[child].isEmpty()) continue;
+            tests[count] = childTest(child, rays_.levelList(level + 1, count));
+            nodes[count++] = child;
+        }
+        if (count == 0) return;
+        filter(in, n, tests, count);
+        for (int c = 0; c < count; ++c)
+            if (tests[c].count > 0) descend(nodes[c], tests[c].out, tests[c].count, level + 1);
+    }
+
+    LaneRays gatherRays(VI index) const {
+        LaneRays r;
+        r.time = hn::GatherIndex(d_, rays_.time, index);
+        r.weight0 = hn::GatherIndex(d_, rays_.weight0, index);
+        r.originX = hn::GatherIndex(d_, rays_.originX, index);
+        r.originY = hn::GatherIndex(d_, rays_.originY, index);
+        r.shearX = hn::GatherIndex(d_, rays_.shearX, index);
+        r.shearY = hn::GatherIndex(d_, rays_.shearY, index);
+        r.shearZ = hn::GatherIndex(d_, rays_.shearZ, index);
+        r.end = hn::GatherIndex(d_, rays_.rayEnd, index);
+        r.alongZ = rays_.allShearAlongZ();
+        if (!r.alongZ) {
+            r.axisX = hn::GatherIndex(di_, rays_.axisX, index);
+            r.axisY = hn::GatherIndex(di_, rays_.axisY, index);
+            r.axisZ = hn::GatherIndex(di_, rays_.axisZ, index);
+        }
+        return r;
+    }
+    // A vertex blended to each lane's time and moved to the ray origin, as `a - r.origin` with
+    // `a = lerp(p0, p1, t)` in watertight_triangle.h (the origin's z is 0, so z stays).
+    void relative(const LaneRays& r, const Vec3& p0, const Vec3& p1, VF& x, VF& y, VF& z) const {
+        x = hn::Sub(
+            hn::Add(hn::Mul(r.weight0, hn::Set(d_, p0.x)), hn::Mul(r.time, hn::Set(d_, p1.x))),
+            r.originX);
+        y = hn::Sub(
+            hn::Add(hn::Mul(r.weight0, hn::Set(d_, p0.y)), hn::Mul(r.time, hn::Set(d_, p1.y))),
+            r.originY);
+        z = hn::Add(hn::Mul(r.weight0, hn::Set(d_, p0.z)), hn::Mul(r.time, hn::Set(d_, p1.z)));
+    }
+
+    // The watertight test of watertight_triangle.h for every lane, in the same operations.
+    TriangleHits intersect(const LaneRays& r, std::uint32_t triangle, MF active) const {
+        const std::uint32_t* corner = &mesh_.indices[3 * std::size_t(triangle)];
+        VF A[3], B[3], C[3];
+        relative(r, mesh_.position0[corner[0]], mesh_.position1[corner[0]], A[0], A[1], A[2]);
+        relative(r, mesh_.position0[corner[1]], mesh_.position1[corner[1]], B[0], B[1], B[2]);
+        relative(r, mesh_.position0[corner[2]], mesh_.position1[corner[2]], C[0], C[1], C[2]);
+        VF Akz, Bkz, Ckz, ax, ay, bx, by, cx, cy;
+        if (r.alongZ) {
+            Akz = A[2];
+            Bkz = B[2];
+            Ckz = C[2];
+            ax = hn::Sub(A[1], hn::Mul(r.shearX, Akz));
+            ay = hn::Sub(A[0], hn::Mul(r.shearY, Akz));
+            bx = hn::Sub(B[1], hn::Mul(r.shearX, Bkz));
+            by = hn::Sub(B[0], hn::Mul(r.shearY, Bkz));
+            cx = hn::Sub(C[1], hn::Mul(r.shearX, Ckz));
+            cy = hn::Sub(C[0], hn::Mul(r.shearY, Ckz));
+        } else {
+            Akz = axisOf(di_, r.axisZ, A[0], A[1], A[2]);
+            Bkz = axisOf(di_, r.axisZ, B[0], B[1], B[2]);
+            Ckz = axisOf(di_, r.axisZ, C[0], C[1], C[2]);
+            ax = hn::Sub(axisOf(di_, r.axisX, A[0], A[1], A[2]), hn::Mul(r.shearX, Akz));
+            ay = hn::Sub(axisOf(di_, r.axisY, A[0], A[1], A[2]), hn::Mul(r.shearY, Akz));
+            bx = hn::Sub(axisOf(di_, r.axisX, B[0], B[1], B[2]), hn::Mul(r.shearX, Bkz));
+            by = hn::Sub(axisOf(di_, r.axisY, B[0], B[1], B[2]), hn::Mul(r.shearY, Bkz));
+            cx = hn::Sub(axisOf(di_, r.axisX, C[0], C[1], C[2]), hn::Mul(r.shearX, Ckz));
+            cy = hn::Sub(axisOf(di_, r.axisY, C[0], C[1], C[2]), hn::Mul(r.shearY, Ckz));
+        }
+        VF u = hn::Sub(hn::Mul(cx, by), hn::Mul(cy, bx));
+        VF w_ = hn::Sub(hn::Mul(bx, ay), hn::Mul(by, ax));
+        VF v = hn::Sub(hn::Mul(ax, cy), hn::Mul(ay, cx));
+        const VF zero = hn::Zero(d_);
+        const MF onEdge =
+            hn::And(active, hn::Or(hn::Or(hn::Eq(u, zero), hn::Eq(v, zero)), hn::Eq(w_, zero)));
+        if (!hn::AllFalse(d_, onEdge)) inDouble(onEdge, ax, ay, bx, by, cx, cy, u, v, w_);
+        const MF negative = hn::Or(hn::Or(hn::Lt(u, zero), hn::Lt(v, zero)), hn::Lt(w_, zero));
+        const MF positive = hn::Or(hn::Or(hn::Gt(u, zero), hn::Gt(v, zero)), hn::Gt(w_, zero));
+        const VF det = hn::Add(hn::Add(u, v), w_);
+        const VF az = hn::Mul(r.shearZ, Akz), bz = hn::Mul(r.shearZ, Bkz),
+                 cz = hn::Mul(r.shearZ, Ckz);
+        const VF t = hn::Add(hn::Add(hn::Mul(u, az), hn::Mul(v, bz)), hn::Mul(w_, cz));
+        const VF rcp = hn::Div(hn::Set(d_, 1.0f), det);
+        TriangleHits hits;
+        hits.lambda = hn::Mul(t, rcp);
+        hits.b1 = hn::Mul(v, rcp);
+        hits.b2 = hn::Mul(w_, rcp);
+        const MF inRange = hn::And(hn::Ge(hits.lambda, hn::Set(d_, rays_.lambdaMin())),
+                                   hn::Le(hits.lambda, r.end));
+        const MF valid = hn::AndNot(hn::Eq(det, zero), hn::IsFinite(det));
+        hits.hit =
+            hn::And(hn::AndNot(hn::And(negative, positive), hn::And(active, valid)), inRange);
+        return hits;
+    }
+
+    // Lanes with an edge function exactly zero: all three again in double precision.
+    void inDouble(MF lanes, VF ax, VF ay, VF bx, VF by, VF cx, VF cy, VF& u, VF& v, VF& w) const {
+        alignas(64) float s[9][kMaxLanes];
+        const VF in[9] = {ax, ay, bx, by, cx, cy, u, v, w};
+        for (int k = 0; k < 9; ++k) hn::Store(in[k], d_, s[k]);
+        for (std::uint16_t rest = bitsOf(d_, lanes); rest; rest &= std::uint16_t(rest - 1)) {
+            const int i = std::countr_zero(rest);
+            const double dax = s[0][i], day = s[1][i], dbx = s[2][i], dby = s[3][i], dcx = s[4][i],
+                         dcy = s[5][i];
+            s[6][i] = float(dcx * dby - dcy * dbx);
+            s[7][i] = float(dax * dcy - day * dcx);
+            s[8][i] = float(dbx * day - dby * dax);
+        }
+        u = hn::Load(d_, s[6]);
+        v = hn::Load(d_, s[7]);
+        w = hn::Load(d_, s[8]);
+    }
+
+    void leaf(int node, const std::int32_t* in, int n) {
+        std::size_t count;
+        const std::uint32_t* triangles =
+            h_.leafTriangles(node - PatchHierarchy::firstLeaf(h_.depth()), count);
+        if (count == 0) return;
+        for (int i = 0; i < n; i += lanes_) {
+            MF active;
+            const VI index = indicesAt(in, i, n, active);
+            triangleTests_ += std::int64_t(hn::CountTrue(d_, active) * count);
+            if (kCount) addWork(SampleWork::TriangleTests, index, active, std::uint32_t(count));
+            LaneRays r = gatherRays(index);
+            if (kEveryHit)
+                offerEveryHit(r, triangles, count, active, index);
+            else
+                keepNearest(r, triangles, count, active, index);
+        }
+    }
+
+    void keepNearest(LaneRays& r, const std::uint32_t* triangles, std::size_t count, MF active,
+                     VI index) {
+        VF depth = hn::GatherIndex(d_, rays_.bestDepth, index);
+        VI patch = hn::GatherIndex(di_, rays_.bestPatch, index);
+        VU triangle = hn::GatherIndex(du_, rays_.bestTriangle, index);
+        VF b1 = hn::GatherIndex(d_, rays_.bestB1, index);
+        VF b2 = hn::GatherIndex(d_, rays_.bestB2, index);
+        const VF perLambda = hn::Set(d_, rays_.depthPerLambda());
+        const VF widen = hn::Set(d_, 1.0f + kDepthTieWidening);
+        MF improved = hn::FirstN(d_, 0);
+        for (std::size_t k = 0; k < count; ++k) {
+            const std::uint32_t tri = triangles[k];
+            const TriangleHits hits = intersect(r, tri, active);
+            if (hn::AllFalse(d_, hits.hit)) continue;
+            const VF hitDepth = hn::Mul(hits.lambda, perLambda);
+            const auto hitPatch = std::int32_t(mesh_.patchOf(tri));
+            const VU patchU = hn::Set(du_, std::uint32_t(hitPatch));
+            const VU bestPatchU = hn::BitCast(du_, patch);
+            const VU triU = hn::Set(du_, mesh_.triangleInPatchOf(tri));
+            // VisibilityRecord::nearerThan: depth, then patch, then triangle (unsigned).
+            const auto tieLess =
+                hn::Or(hn::Lt(patchU, bestPatchU),
+                       hn::And(hn::Eq(patchU, bestPatchU), hn::Lt(triU, triangle)));
+            const MF nearer = hn::Or(hn::Lt(hitDepth, depth),
+                                     hn::And(hn::Eq(hitDepth, depth), hn::RebindMask(d_, tieLess)));
+            const MF take = hn::And(hits.hit, nearer);
+            depth = hn::IfThenElse(take, hitDepth, depth);
+            patch = hn::IfThenElse(hn::RebindMask(di_, take), hn::Set(di_, hitPatch), patch);
+            triangle = hn::IfThenElse(hn::RebindMask(du_, take), triU, triangle);
+            b1 = hn::IfThenElse(take, hits.b1, b1);
+            b2 = hn::IfThenElse(take, hits.b2, b2);
+            // The ray ends at its nearest hit so far (z_culling.h's rayEndAtDepth).
+            r.end = hn::IfThenElse(
+                take, hn::Min(r.end, hn::Mul(hn::Div(hitDepth, perLambda), widen)), r.end);
+            improved = hn::Or(improved, take);
+        }
+        if (hn::AllFalse(d_, improved)) return;
+        alignas(64) std::int32_t lanes[kMaxLanes], patches[kMaxLanes];
+        alignas(64) std::uint32_t triangleLanes[kMaxLanes];
+        alignas(64) float depths[kMaxLanes], b1s[kMaxLanes], b2s[kMaxLanes], ends[kMaxLanes];
+        hn::Store(index, di_, lanes);
+        hn::Store(patch, di_, patches);
+        hn::Store(triangle, du_, triangleLanes);
+        hn::Store(depth, d_, depths);
+        hn::Store(b1, d_, b1s);
+        hn::Store(b2, d_, b2s);
+        hn::Store(r.end, d_, ends);
+        for (std::uint16_t rest = bitsOf(d_, improved); rest; rest &= std::uint16_t(rest - 1)) {
+            const int lane = std::countr_zero(rest);
+            const auto i = std::size_t(lanes[lane]);
+            rays_.bestDepth[i] = depths[lane];
+            rays_.bestPatch[i] = patches[lane];
+            rays_.bestTriangle[i] = triangleLanes[lane];
+            rays_.bestB1[i] = b1s[lane];
+            rays_.bestB2[i] = b2s[lane];
+            rays_.rayEnd[i] = ends[lane];
+            rays_.passImproved()[i / kMaxLanes] |= std::uint16_t(1u << (i % kMaxLanes));
+        }
+    }
+
+    void offerEveryHit(const LaneRays& r, const std::uint32_t* triangles, std::size_t count,
+                       MF active, VI index) {
+        alignas(64) float lambda[kMaxLanes], b1[kMaxLanes], b2[kMaxLanes];
+        alignas(64) std::int32_t lanes[kMaxLanes];
+        hn::Store(index, di_, lanes);
+        for (std::size_t k = 0; k < count; ++k) {
+            const std::uint32_t tri = triangles[k];
+            const TriangleHits hits = intersect(r, tri, active);
+            if (hn::AllFalse(d_, hits.hit)) continue;
+            hn::Store(hits.lambda, d_, lambda);
+            hn::Store(hits.b1, d_, b1);
+            hn::Store(hits.b2, d_, b2);
+            for (std::uint16_t rest = bitsOf(d_, hits.hit); rest; rest &= std::uint16_t(rest - 1)) {
+                const int lane = std::countr_zero(rest);
+                const auto i = std::size_t(lanes[lane]);
+                VisibilityRecord record;
+                record.depth = lambda[lane] * rays_.depthPerLambda();
+                record.patch = mesh_.patchOf(tri);
+                record.triangle = mesh_.triangleInPatchOf(tri);
+                record.b1 = b1[lane];
+                record.b2 = b2[lane];
+                record.time = rays_.time[i];
+                record.lens = {rays_.lensU[i], rays_.lensV[i]};
+                ++work_.transparentFragments;
+                if (kCount) ++rays_.work[std::size_t(SampleWork::Visible)][i];
+                if (!pass_.transparent->offer(rays_.record[i], pass_.pool,
+                                              LayerFragment{record, mesh_.objectId}))
+                    ++work_.transparentOverflow;
+            }
+        }
+    }
+
+    // Samples whose nearest hit changed in this pass (samples [first, last)) are visibility
+    // samples.
+    void finish(int first, int last) {
+        const std::uint16_t* improved = rays_.passImproved();
+        std::int64_t visible = 0;
+        for (int b = first / kMaxLanes; b < (last + kMaxLanes - 1) / kMaxLanes; ++b) {
+            if (!improved[b]) continue;
+            visible += std::popcount(improved[b]);
+            rays_.changed[b] |= improved[b];
+            if (kCount) {
+                for (std::uint16_t rest = improved[b]; rest; rest &= std::uint16_t(rest - 1))
+                    ++rays_.work[std::size_t(SampleWork::Visible)]
+                                [std::size_t(b) * kMaxLanes + std::size_t(std::countr_zero(rest))];
+            }
+        }
+        work_.visibilitySamples += visible;
+        if (visible) rays_.depthBoundsChanged();
+    }
+
+    const DF d_{};
+    const DI di_{};
+    const DU du_{};
+    TileRays& rays_;
+    const StreamPass& pass_;
+    const PatchHierarchy& h_;
+    const MovingMesh& mesh_;
+    RasterWork& work_;
+    const int lanes_;
+    std::int64_t boxTests_ = 0, triangleTests_ = 0;
+    TimeRange times_[2 * kMaxLeavesPerHierarchy - 1];
+};
+
+void TraceImpl(TileRays& rays, const StreamPass& pass, RasterWork& work) {
+    const bool everyHit = pass.transparent != nullptr;
+    const bool counting = rays.work[0] != nullptr;
+    if (everyHit && counting)
+        Pass<true, true>(rays, pass, work).run();
+    else if (everyHit)
+        Pass<true, false>(rays, pass, work).run();
+    else if (counting)
+        Pass<false, true>(rays, pass, work).run();
+    else
+        Pass<false, false>(rays, pass, work).run();
+}
+
+float FarthestImpl(const float* depth, int count, float farDepth) {
+    const DF d;
+    const VF far = hn::Set(d, farDepth);
+    VF deepest = hn::Zero(d);
+    for (int i = 0; i < count; i += int(hn::Lanes(d))) {
+        const VF v = hn::Load(d, depth + i);
+        deepest = hn::Max(deepest, hn::IfThenElse(hn::Lt(v, far), v, far));
+    }
+    return hn::GetLane(hn::MaxOfLanes(d, deepest));
+}
+
+const char* TargetImpl() {
+    return hwy::TargetName(HWY_TARGET);
+}
+
+}  // namespace HWY_NAMESPACE
+}  // namespace patchsim
+HWY_AFTER_NAMESPACE();
+
+#if HWY_ONCE
+namespace patchsim {
+
+HWY_EXPORT(TraceImpl);
+HWY_EXPORT(FarthestImpl);
+HWY_EXPORT(TargetImpl);
+
+void traceRayStream(TileRays& rays, const StreamPass& pass, RasterWork& work) {
+    HWY_DYNAMIC_DISPATCH(TraceImpl)(rays, pass, work);
+}
+
+float farthestBoundOf(const float* depth, int count, float farDepth) {
+    return HWY_DYNAMIC_DISPATCH(FarthestImpl)(depth, count, farDepth);
+}
+
+const char* rayStreamTarget() {
+    return HWY_DYNAMIC_DISPATCH(TargetImpl)();
+}
+
+}  // namespace patchsim
+#endif

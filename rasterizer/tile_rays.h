@@ -1,0 +1,179 @@
+#pragma once
+// The samples of one screen tile as rays, laid out for SIMD (US 8,791,945, step 7): made once per
+// tile and frame, then traced by every group whose bounds cover the tile (ray_stream.h).
+//
+// Representation
+// --------------
+// Structure of arrays: each per-sample quantity is one array, so `kMaxLanes` consecutive samples
+// load as one vector. The arrays are padded to a multiple of `kMaxLanes` with dead samples (time
+// NaN, in no time range; no hit, depth 0).
+//
+// Order: by time bucket first. With motion, bucket k of B (B = samples per pixel, at most
+// kMaxTimeBuckets) holds the times in [k/B, (k+1)/B); stratified sampling puts one sample of each
+// pixel in each bucket. The samples of a time range therefore lie in one index range and those
+// outside it cost nothing. Within a bucket, samples follow their pixels in Morton order, then
+// their sample index, so the rays that meet a small box sit in few vectors. Without motion there
+// is one bucket. The order depends only on the sample set, never on the geometry or the threads.
+//
+// Per sample: the ray (time t and 1 - t; origin on the lens plane z = 0; direction, whose z is
+// the same for every camera ray), the constants of the 12-multiply-add moving-box test (a, b, c
+// per axis; c is 0 along z), the shear of the watertight triangle test (axes kx, ky, kz and sx,
+// sy, sz), which axes the ray runs parallel to, its visibility-buffer record and lens sample, and
+// the nearest hit so far (depth, patch, triangle, barycentrics) with the ray end z culling
+// derives from it. Per batch of kMaxLanes samples: whether every ray shears along z (the fast
+// path of the triangle test), whether any runs parallel to an axis, and which samples got a nearer
+// hit during the tile (written back to the visibility buffer at the end).
+
+#include <hwy/aligned_allocator.h>
+
+#include <algorithm>
+#include <cstdint>
+#include <vector>
+
+#include "pipeline/core/camera.h"
+#include "pipeline/core/ray.h"
+#include "pipeline/core/samples.h"
+#include "pipeline/core/time_range.h"
+#include "rasterizer/moving_box_ray.h"
+#include "rasterizer/tile_grid.h"
+#include "rasterizer/visibility_buffer.h"
+#include "rasterizer/watertight_triangle.h"
+
+namespace patchsim {
+
+class PixelCounters;
+
+// The widest vector the ray kernels use (16 floats: AVX-512); narrower targets split a batch.
+inline constexpr int kMaxLanes = 16;
+inline constexpr int kMaxTimeBuckets = 256;
+
+// What every tile of a frame shares.
+struct TileRayFrame {
+    const Camera* camera;
+    LensModel lens;
+    SampleSource samples;
+    int samplesPerPixel = 1;
+    bool motion = false;  // samples vary in time: order them by time bucket
+    int tileSize = 8;
+    bool countPerSample = false;  // keep per-sample work for heat maps
+};
+
+// The camera as the ray setup needs it (rasterToScreen, makeCameraRay).
+struct RayCameraConstants {
+    float width, height, tanHalfFovY, aspect;
+    float focusDistance, lensRadius;  // lensRadius 0: a pinhole
+};
+
+// Per-sample work for heat maps (the quantities of pixel_counters.h).
+enum class SampleWork : std::uint8_t { Tested, Rays, BoxTests, TriangleTests, Visible, kCount };
+
+class TileRays {
+  public:
+    // Allocates for the frame's largest tile; nothing is allocated per tile afterwards.
+    explicit TileRays(const TileRayFrame& frame);
+
+    // Makes the rays of tile `rect`; each sample's nearest hit so far comes from `buffer`.
+    void load(const TileRect& rect, const VisibilityBuffer& buffer);
+    // Writes the samples that got a nearer hit back to `buffer`, and per-sample work to `pixels`.
+    void store(VisibilityBuffer& buffer, PixelCounters* pixels) const;
+
+    int count() const { return count_; }      // live samples
+    int padded() const { return padded_; }    // a multiple of kMaxLanes
+    int buckets() const { return buckets_; }  // time buckets
+    // The bucket of time t; monotone in t, so every sample of a bucket below bucketOf(tmin) has a
+    // time below tmin.
+    int bucketOf(float t) const {
+        return buckets_ == 1 ? 0 : std::clamp(int(t * float(buckets_)), 0, buckets_ - 1);
+    }
+    // Samples [bucketBegin(b), bucketBegin(b + 1)) are bucket b's.
+    int bucketBegin(int b) const { return bucketBegin_[std::size_t(b)]; }
+    // The index range [first, last) holding every sample with time in `times`.
+    void indexRange(TimeRange times, int& first, int& last) const;
+    // The deepest depth bound (nearest hit, or the far plane) over the tile's samples; cached
+    // until a nearer hit is written.
+    float farthestDepthBound();
+    void depthBoundsChanged() { farthestStale_ = true; }
+
+    // The ray constants shared by every sample of the frame.
+    float depthPerLambda() const { return depthPerLambda_; }
+    float lambdaMin() const { return lambdaMin_; }
+    float farDepth() const { return farDepth_; }
+    // The slab-test ray of sample i (for the rare ray parallel to an axis).
+    SlabRay slabRay(int i) const;
+    // The scalar ray and shear of sample i (for the rare degenerate triangle test).
+    Ray ray(int i) const;
+    ShearedRay shearedRay(int i) const;
+
+    // Per sample (see the essay above).
+    float* time;
+    float* weight0;  // 1 - t
+    float* originX;
+    float* originY;
+    float* directionX;
+    float* directionY;
+    float* slabA[3];
+    float* slabB[3];
+    float* slabC[2];
+    float* shearX;
+    float* shearY;
+    float* shearZ;
+    std::int32_t* axisX;
+    std::int32_t* axisY;
+    std::int32_t* axisZ;
+    std::int32_t* parallelAxes;  // bit k: the direction's k component is ~0
+    std::uint32_t* record;
+    float* lensU;
+    float* lensV;
+    float* bestDepth;
+    std::int32_t* bestPatch;
+    std::uint32_t* bestTriangle;
+    float* bestB1;
+    float* bestB2;
+    float* rayEnd;  // the ray parameter the current pass may hit up to
+    std::uint32_t* work[std::size_t(SampleWork::kCount)];  // only with countPerSample
+
+    // Whether every ray shears along z (the fast path of the triangle test), and whether any
+    // runs parallel to an axis (those take the scalar box test).
+    bool allShearAlongZ() const { return allAlongZ_; }
+    bool anyParallel() const { return anyParallel_; }
+    // Per batch of kMaxLanes samples: bit j, sample j of the batch got a nearer hit in this tile.
+    std::uint16_t* changed;
+
+    // Scratch of the ray kernels: two lists of sample indices per level of a descent, one per
+    // child (with room for a vector written past the end), and per batch the samples a pass
+    // improved.
+    std::int32_t* levelList(int level, int child) {
+        return lists_.get() + std::size_t(2 * level + child) * listStride_;
+    }
+    std::uint16_t* passImproved() { return improved_.get(); }
+
+  private:
+    void gather(const TileRect& rect);
+    void orderByBucket();
+    void setFlags();
+
+    TileRayFrame frame_;
+    float depthPerLambda_ = 1, lambdaMin_ = 0, farDepth_ = 0;
+    int capacity_ = 0, count_ = 0, padded_ = 0, buckets_ = 1;
+    float farthest_ = 0;
+    bool farthestStale_ = true;
+    bool allAlongZ_ = true, anyParallel_ = false;
+    std::vector<int> bucketBegin_;       // buckets + 1
+    std::vector<std::uint16_t> morton_;  // the tile's pixels (y * tileSize + x) in Morton order
+    // Staging of the tile's samples in pixel order, before they are ordered by bucket.
+    std::vector<Sample> stagedSamples_;
+    std::vector<Vec2> stagedDisk_;
+    std::vector<std::uint32_t> stagedRecord_;
+    hwy::AlignedFreeUniquePtr<float[]> floats_;
+    hwy::AlignedFreeUniquePtr<std::int32_t[]> ints_;
+    hwy::AlignedFreeUniquePtr<std::uint32_t[]> counts_;
+    hwy::AlignedFreeUniquePtr<std::uint16_t[]> changed_, improved_;
+    hwy::AlignedFreeUniquePtr<std::int32_t[]> lists_;
+    std::size_t listStride_ = 0;
+};
+
+// From each sample's time, raster position (staged in directionX/Y) and lens point on the disk
+// (staged in originX/Y) to its ray and the constants of its tests (tile_ray_setup.cpp, SIMD).
+void computeRayConstants(TileRays& rays, const RayCameraConstants& camera);
+
+}  // namespace patchsim
