@@ -101,7 +101,8 @@ FrameRasterWork rasterizeFrame(const std::vector<MovingMesh>& meshes,
                              rasterizer.samples().samplesPerPixel(),
                              rasterizer.samples().effects().timeSamples(),
                              grid.tileSize,
-                             targets.pixels != nullptr};
+                             targets.pixels != nullptr,
+                             options.opaqueStartsEmpty};
     // One transparent-layer pool per worker.
     const int threads = std::min(resolveThreadCount(options.threads), TransparentLayers::kPools);
     std::vector<Worker> workers;

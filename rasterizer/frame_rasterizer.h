@@ -35,6 +35,8 @@ struct FrameRasterOptions {
     // The frame's samples, made before (the rasterizer's generator makes them tile by tile when
     // there is no table).
     const SampleTable* sampleTable = nullptr;
+    // targets.opaque holds no hits yet (as renderScene makes it), so it need not be read.
+    bool opaqueStartsEmpty = false;
 };
 
 // Each patch's work: building its hierarchies (every patch, whichever rows are owned) and its

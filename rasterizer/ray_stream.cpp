@@ -8,6 +8,7 @@
 
 #include <bit>
 #include <cstdint>
+#include <limits>
 
 #include "rasterizer/conservative_margins.h"
 #include "rasterizer/z_culling.h"
@@ -143,7 +144,7 @@ class Pass {
                 addWork(SampleWork::Rays, index, m, 1);
                 addWork(SampleWork::BoxTests, index, m, 1);
             }
-            MF hit = hn::And(m, hitsBox(box, SlabLanes::contiguous(d_, rays_, std::size_t(at))));
+            MF hit = hn::And(m, hitsBox(box, SlabLanes::contiguous(d_, rays_, t, std::size_t(at))));
             if (rays_.anyParallel()) hit = parallelLanes(box, index, m, hit);
             hn::StoreU(hn::Compress(index, hn::RebindMask(di_, hit)), di_, out + count);
             count += int(hn::CountTrue(d_, hit));
@@ -166,30 +167,33 @@ class Pass {
             counts[lanes[std::countr_zero(rest)]] += amount;
     }
 
-    // The slab-test constants of a vector of rays.
+    // The slab-test constants of a vector of rays: a = (1 - t) / d and b = t / d from 1/d, in
+    // makeSlabRay's operations; c = -o / d; the ray's end.
     struct SlabLanes {
         VF a[3], b[3], c[2], end;
-        static SlabLanes contiguous(DF d, const TileRays& r, std::size_t at) {
+        static SlabLanes of(DF d, const TileRays& r, VF t, VF inverseX, VF inverseY, VF c0, VF c1,
+                            VF end) {
             SlabLanes s;
+            const VF w0 = hn::Sub(hn::Set(d, 1.0f), t);
+            const VF inverse[3] = {inverseX, inverseY, hn::Set(d, r.inverseZ())};
             for (int k = 0; k < 3; ++k) {
-                s.a[k] = hn::Load(d, r.slabA[k] + at);
-                s.b[k] = hn::Load(d, r.slabB[k] + at);
+                s.a[k] = hn::Mul(w0, inverse[k]);
+                s.b[k] = hn::Mul(t, inverse[k]);
             }
-            s.c[0] = hn::Load(d, r.slabC[0] + at);
-            s.c[1] = hn::Load(d, r.slabC[1] + at);
-            s.end = hn::Load(d, r.rayEnd + at);
+            s.c[0] = c0;
+            s.c[1] = c1;
+            s.end = end;
             return s;
         }
-        static SlabLanes gathered(DF d, const TileRays& r, VI index) {
-            SlabLanes s;
-            for (int k = 0; k < 3; ++k) {
-                s.a[k] = hn::GatherIndex(d, r.slabA[k], index);
-                s.b[k] = hn::GatherIndex(d, r.slabB[k], index);
-            }
-            s.c[0] = hn::GatherIndex(d, r.slabC[0], index);
-            s.c[1] = hn::GatherIndex(d, r.slabC[1], index);
-            s.end = hn::GatherIndex(d, r.rayEnd, index);
-            return s;
+        static SlabLanes contiguous(DF d, const TileRays& r, VF t, std::size_t at) {
+            return of(d, r, t, hn::Load(d, r.inverseX + at), hn::Load(d, r.inverseY + at),
+                      hn::Load(d, r.slabC[0] + at), hn::Load(d, r.slabC[1] + at),
+                      hn::Load(d, r.rayEnd + at));
+        }
+        static SlabLanes gathered(DF d, const TileRays& r, VF t, VI index) {
+            return of(d, r, t, hn::GatherIndex(d, r.inverseX, index),
+                      hn::GatherIndex(d, r.inverseY, index), hn::GatherIndex(d, r.slabC[0], index),
+                      hn::GatherIndex(d, r.slabC[1], index), hn::GatherIndex(d, r.rayEnd, index));
         }
     };
 
@@ -227,7 +231,7 @@ class Pass {
             MF valid;
             const VI index = indicesAt(in, i, n, valid);
             const VF t = hn::GatherIndex(d_, rays_.time, index);
-            const SlabLanes s = SlabLanes::gathered(d_, rays_, index);
+            const SlabLanes s = SlabLanes::gathered(d_, rays_, t, index);
             for (int c = 0; c < count; ++c) testChild(children[c], index, valid, t, s);
         }
     }
@@ -303,7 +307,9 @@ class Pass {
         r.originY = hn::GatherIndex(d_, rays_.originY, index);
         r.shearX = hn::GatherIndex(d_, rays_.shearX, index);
         r.shearY = hn::GatherIndex(d_, rays_.shearY, index);
-        r.shearZ = hn::GatherIndex(d_, rays_.shearZ, index);
+        // Along z, sz = 1 / dz, the same for every camera ray.
+        r.shearZ = rays_.allShearAlongZ() ? hn::Set(d_, rays_.shearAlongZ())
+                                          : hn::GatherIndex(d_, rays_.shearZ, index);
         r.end = hn::GatherIndex(d_, rays_.rayEnd, index);
         r.alongZ = rays_.allShearAlongZ();
         if (!r.alongZ) {
@@ -416,42 +422,65 @@ class Pass {
         }
     }
 
+    // A hit per lane, or the nearest so far: VisibilityRecord's depth, patch, triangle,
+    // barycentrics.
+    struct Candidate {
+        VF depth;
+        VI patch;
+        VU triangle;
+        VF b1, b2;
+    };
+
+    // VisibilityRecord::nearerThan lane by lane: depth, then patch, then triangle (unsigned).
+    MF nearerThan(const Candidate& a, const Candidate& b) const {
+        const VU patchA = hn::BitCast(du_, a.patch), patchB = hn::BitCast(du_, b.patch);
+        const auto tieLess = hn::Or(hn::Lt(patchA, patchB),
+                                    hn::And(hn::Eq(patchA, patchB), hn::Lt(a.triangle, b.triangle)));
+        return hn::Or(hn::Lt(a.depth, b.depth),
+                      hn::And(hn::Eq(a.depth, b.depth), hn::RebindMask(d_, tieLess)));
+    }
+
+    Candidate select(MF m, const Candidate& yes, const Candidate& no) const {
+        return {hn::IfThenElse(m, yes.depth, no.depth),
+                hn::IfThenElse(hn::RebindMask(di_, m), yes.patch, no.patch),
+                hn::IfThenElse(hn::RebindMask(du_, m), yes.triangle, no.triangle),
+                hn::IfThenElse(m, yes.b1, no.b1), hn::IfThenElse(m, yes.b2, no.b2)};
+    }
+
+    // The leaf's nearest hit per ray first (most vectors have none), then against the sample's
+    // nearest so far: the same minimum in (depth, patch, triangle) order either way.
     void keepNearest(LaneRays& r, const std::uint32_t* triangles, std::size_t count, MF active,
                      VI index) {
-        VF depth = hn::GatherIndex(d_, rays_.bestDepth, index);
-        VI patch = hn::GatherIndex(di_, rays_.bestPatch, index);
-        VU triangle = hn::GatherIndex(du_, rays_.bestTriangle, index);
-        VF b1 = hn::GatherIndex(d_, rays_.bestB1, index);
-        VF b2 = hn::GatherIndex(d_, rays_.bestB2, index);
         const VF perLambda = hn::Set(d_, rays_.depthPerLambda());
         const VF widen = hn::Set(d_, 1.0f + kDepthTieWidening);
-        MF improved = hn::FirstN(d_, 0);
+        Candidate leafBest{hn::Set(d_, std::numeric_limits<float>::infinity()), hn::Set(di_, -1),
+                           hn::Zero(du_), hn::Zero(d_), hn::Zero(d_)};
+        MF found = hn::FirstN(d_, 0);
         for (std::size_t k = 0; k < count; ++k) {
             const std::uint32_t tri = triangles[k];
             const TriangleHits hits = intersect(r, tri, active);
             if (hn::AllFalse(d_, hits.hit)) continue;
-            const VF hitDepth = hn::Mul(hits.lambda, perLambda);
-            const auto hitPatch = std::int32_t(mesh_.patchOf(tri));
-            const VU patchU = hn::Set(du_, std::uint32_t(hitPatch));
-            const VU bestPatchU = hn::BitCast(du_, patch);
-            const VU triU = hn::Set(du_, mesh_.triangleInPatchOf(tri));
-            // VisibilityRecord::nearerThan: depth, then patch, then triangle (unsigned).
-            const auto tieLess =
-                hn::Or(hn::Lt(patchU, bestPatchU),
-                       hn::And(hn::Eq(patchU, bestPatchU), hn::Lt(triU, triangle)));
-            const MF nearer = hn::Or(hn::Lt(hitDepth, depth),
-                                     hn::And(hn::Eq(hitDepth, depth), hn::RebindMask(d_, tieLess)));
-            const MF take = hn::And(hits.hit, nearer);
-            depth = hn::IfThenElse(take, hitDepth, depth);
-            patch = hn::IfThenElse(hn::RebindMask(di_, take), hn::Set(di_, hitPatch), patch);
-            triangle = hn::IfThenElse(hn::RebindMask(du_, take), triU, triangle);
-            b1 = hn::IfThenElse(take, hits.b1, b1);
-            b2 = hn::IfThenElse(take, hits.b2, b2);
+            const Candidate hit{hn::Mul(hits.lambda, perLambda),
+                                hn::Set(di_, std::int32_t(mesh_.patchOf(tri))),
+                                hn::Set(du_, mesh_.triangleInPatchOf(tri)), hits.b1, hits.b2};
+            const MF take = hn::And(hits.hit, nearerThan(hit, leafBest));
+            leafBest = select(take, hit, leafBest);
             // The ray ends at its nearest hit so far (z_culling.h's rayEndAtDepth).
             r.end = hn::IfThenElse(
-                take, hn::Min(r.end, hn::Mul(hn::Div(hitDepth, perLambda), widen)), r.end);
-            improved = hn::Or(improved, take);
+                take, hn::Min(r.end, hn::Mul(hn::Div(hit.depth, perLambda), widen)), r.end);
+            found = hn::Or(found, take);
         }
+        if (hn::AllFalse(d_, found)) return;
+        Candidate best{hn::GatherIndex(d_, rays_.bestDepth, index),
+                       hn::GatherIndex(di_, rays_.bestPatch, index),
+                       hn::GatherIndex(du_, rays_.bestTriangle, index),
+                       hn::GatherIndex(d_, rays_.bestB1, index),
+                       hn::GatherIndex(d_, rays_.bestB2, index)};
+        const MF improved = hn::And(found, nearerThan(leafBest, best));
+        best = select(improved, leafBest, best);
+        const VF depth = best.depth, b1 = best.b1, b2 = best.b2;
+        const VI patch = best.patch;
+        const VU triangle = best.triangle;
         if (hn::AllFalse(d_, improved)) return;
         alignas(64) std::int32_t lanes[kMaxLanes], patches[kMaxLanes];
         alignas(64) std::uint32_t triangleLanes[kMaxLanes];

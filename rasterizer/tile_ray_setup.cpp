@@ -39,7 +39,6 @@ void SetupImpl(TileRays& r, const RayCameraConstants& c) {
     const VF directionZ = hn::Set(d, dirZ);
     const VF absZ = hn::Set(d, dirZ < 0 ? -dirZ : dirZ);
     const bool parallelZ = (dirZ < 0 ? -dirZ : dirZ) < kParallelDirection;
-    const VF inverseZ = hn::Set(d, parallelZ ? 0.0f : 1.0f / dirZ);
     for (int i = 0; i < r.count(); i += lanes) {
         const VF t = hn::Load(d, r.time + i);
         // Staged by TileRays::load: raster position in directionX/Y, lens disk in originX/Y.
@@ -61,16 +60,12 @@ void SetupImpl(TileRays& r, const RayCameraConstants& c) {
         hn::Store(oy, d, r.originY + i);
         hn::Store(dx, d, r.directionX + i);
         hn::Store(dy, d, r.directionY + i);
-        // Slab test: a = (1 - t) / d, b = t / d, c = -o / d per axis (makeSlabRay).
+        // Slab test: 1/d (a = (1 - t) / d and b = t / d follow) and c = -o / d (makeSlabRay).
         const MF parallelX = hn::Lt(hn::Abs(dx), tiny), parallelY = hn::Lt(hn::Abs(dy), tiny);
         const VF inverseX = inverseOrZero(d, dx, parallelX),
                  inverseY = inverseOrZero(d, dy, parallelY);
-        hn::Store(hn::Mul(w0, inverseX), d, r.slabA[0] + i);
-        hn::Store(hn::Mul(w0, inverseY), d, r.slabA[1] + i);
-        hn::Store(hn::Mul(w0, inverseZ), d, r.slabA[2] + i);
-        hn::Store(hn::Mul(t, inverseX), d, r.slabB[0] + i);
-        hn::Store(hn::Mul(t, inverseY), d, r.slabB[1] + i);
-        hn::Store(hn::Mul(t, inverseZ), d, r.slabB[2] + i);
+        hn::Store(inverseX, d, r.inverseX + i);
+        hn::Store(inverseY, d, r.inverseY + i);
         hn::Store(hn::Mul(hn::Neg(ox), inverseX), d, r.slabC[0] + i);
         hn::Store(hn::Mul(hn::Neg(oy), inverseY), d, r.slabC[1] + i);
         const VI parallelBits =

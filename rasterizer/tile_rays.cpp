@@ -44,16 +44,19 @@ TileRays::TileRays(const TileRayFrame& frame) : frame_(frame) {
         return mortonCode(a % unsigned(s), a / unsigned(s)) <
                mortonCode(b % unsigned(s), b / unsigned(s));
     });
-    stagedSamples_.resize(std::size_t(s * s * spp));
-    stagedDisk_.resize(stagedSamples_.size());
-    stagedRecord_.resize(stagedSamples_.size());
+    bucket_.resize(std::size_t(s * s * spp));
+    pixels_.reserve(std::size_t(s * s));
+    if (!frame.samples.table) {
+        generated_.resize(bucket_.size());
+        generatedDisk_.resize(bucket_.size());
+    }
 
     const auto n = std::size_t(capacity_);
     floats_ = hwy::AllocateAligned<float>(n * kFloatArrays);
     float** floatArrays[kFloatArrays] = {
-        &time,     &weight0,  &originX,  &originY,   &directionX, &directionY, &slabA[0], &slabA[1],
-        &slabA[2], &slabB[0], &slabB[1], &slabB[2],  &slabC[0],   &slabC[1],   &shearX,   &shearY,
-        &shearZ,   &lensU,    &lensV,    &bestDepth, &bestB1,     &bestB2,     &rayEnd,   nullptr};
+        &time,     &weight0,  &originX,  &originY,   &directionX, &directionY, &inverseX, &inverseY,
+        &slabC[0], &slabC[1], &shearX,   &shearY,    &shearZ,     &lensU,      &lensV,    &bestDepth,
+        &bestB1,   &bestB2,   &rayEnd,   nullptr,    nullptr,     nullptr,     nullptr,   nullptr};
     for (int a = 0; a < kFloatArrays; ++a)
         if (floatArrays[a]) *floatArrays[a] = floats_.get() + std::size_t(a) * n;
     ints_ = hwy::AllocateAligned<std::int32_t>(n * kIntArrays);
@@ -87,50 +90,92 @@ void TileRays::indexRange(TimeRange times, int& first, int& last) const {
     last = bucketBegin_[std::size_t(bucketOf(std::min(times.upper, 1.0f))) + 1];
 }
 
-void TileRays::gather(const TileRect& rect) {
-    const int s = frame_.tileSize, spp = frame_.samplesPerPixel;
-    const auto width = std::size_t(frame_.camera->width());
-    count_ = 0;
+int TileRays::pixelCount(const TileRect& rect) {
+    const int s = frame_.tileSize;
+    pixels_.clear();
     for (std::uint16_t local : morton_) {
         const int x = rect.x0 + local % s, y = rect.y0 + local / s;
-        if (x >= rect.x1 || y >= rect.y1) continue;
-        const auto at = std::size_t(count_);
-        frame_.samples.pixel(x, y, &stagedSamples_[at], &stagedDisk_[at]);
-        const std::size_t first = (std::size_t(y) * width + std::size_t(x)) * std::size_t(spp);
-        for (int k = 0; k < spp; ++k)
-            stagedRecord_[at + std::size_t(k)] = std::uint32_t(first + std::size_t(k));
-        count_ += spp;
+        if (x < rect.x1 && y < rect.y1) pixels_.push_back({x, y});
     }
+    return int(pixels_.size());
 }
 
-// A stable counting sort by time bucket (within a bucket the Morton pixel order stays), into the
-// arrays the vector setup reads: time, raster position, lens point, record, lens sample.
-void TileRays::orderByBucket() {
+void TileRays::pixelSamples(int k, const Sample*& samples, const Vec2*& disk) {
+    const std::size_t at = std::size_t(k) * std::size_t(frame_.samplesPerPixel);
+    Sample* generated = generated_.empty() ? nullptr : &generated_[at];
+    Vec2* generatedDisk = generatedDisk_.empty() ? nullptr : &generatedDisk_[at];
+    frame_.samples.pixel(pixels_[std::size_t(k)][0], pixels_[std::size_t(k)][1], generated,
+                         generatedDisk, samples, disk);
+}
+
+// A stable counting sort of the tile's samples by time bucket (within a bucket the Morton pixel
+// order stays), into the arrays the vector setup reads: time, raster position, lens point,
+// record, lens sample.
+void TileRays::orderByBucket(const TileRect& rect) {
+    const int spp = frame_.samplesPerPixel;
+    const int pixels = pixelCount(rect);
+    count_ = pixels * spp;
     std::fill(bucketBegin_.begin(), bucketBegin_.end(), 0);
-    for (int i = 0; i < count_; ++i)
-        ++bucketBegin_[std::size_t(bucketOf(stagedSamples_[std::size_t(i)].time)) + 1];
+    const Sample* samples;
+    const Vec2* disk;
+    for (int k = 0; k < pixels; ++k) {
+        pixelSamples(k, samples, disk);
+        for (int j = 0; j < spp; ++j) {
+            const int b = bucketOf(samples[j].time);
+            bucket_[std::size_t(k * spp + j)] = std::uint16_t(b);
+            ++bucketBegin_[std::size_t(b) + 1];
+        }
+    }
     for (int b = 0; b < buckets_; ++b)
         bucketBegin_[std::size_t(b) + 1] += bucketBegin_[std::size_t(b)];
-    const auto spp = std::uint32_t(frame_.samplesPerPixel);
-    const auto width = std::uint32_t(frame_.camera->width());
+    const auto width = std::size_t(frame_.camera->width());
     std::vector<int>& next = bucketBegin_;  // advanced while filling, then restored
-    for (int j = 0; j < count_; ++j) {
-        const Sample& smp = stagedSamples_[std::size_t(j)];
-        const int i = next[std::size_t(bucketOf(smp.time))]++;
-        const std::uint32_t rec = stagedRecord_[std::size_t(j)];
-        const std::uint32_t pixel = rec / spp;
-        const Vec2 raster = Vec2(float(pixel % width), float(pixel / width)) + smp.pixelOffset;
-        time[i] = smp.time;
-        directionX[i] = raster.x;
-        directionY[i] = raster.y;
-        originX[i] = stagedDisk_[std::size_t(j)].x;
-        originY[i] = stagedDisk_[std::size_t(j)].y;
-        record[i] = rec;
-        lensU[i] = smp.lens.x;
-        lensV[i] = smp.lens.y;
+    for (int k = 0; k < pixels; ++k) {
+        // The table's samples are read in place; the generator's are still in generated_.
+        if (frame_.samples.table) pixelSamples(k, samples, disk);
+        else {
+            samples = &generated_[std::size_t(k * spp)];
+            disk = &generatedDisk_[std::size_t(k * spp)];
+        }
+        const int x = pixels_[std::size_t(k)][0], y = pixels_[std::size_t(k)][1];
+        const std::size_t firstRecord = (std::size_t(y) * width + std::size_t(x)) * std::size_t(spp);
+        for (int j = 0; j < spp; ++j) {
+            const Sample& smp = samples[j];
+            const int i = next[bucket_[std::size_t(k * spp + j)]]++;
+            const Vec2 raster = Vec2(float(x), float(y)) + smp.pixelOffset;
+            time[i] = smp.time;
+            directionX[i] = raster.x;
+            directionY[i] = raster.y;
+            originX[i] = disk[j].x;
+            originY[i] = disk[j].y;
+            record[i] = std::uint32_t(firstRecord + std::size_t(j));
+            lensU[i] = smp.lens.x;
+            lensV[i] = smp.lens.y;
+        }
     }
     for (int b = buckets_; b > 0; --b) next[std::size_t(b)] = next[std::size_t(b) - 1];
     next[0] = 0;
+}
+
+void TileRays::startHits(const VisibilityBuffer& buffer) {
+    if (frame_.bufferStartsEmpty) {
+        const VisibilityRecord none;
+        std::fill_n(bestDepth, count_, none.depth);
+        std::fill_n(bestPatch, count_, none.patch);
+        std::fill_n(bestTriangle, count_, none.triangle);
+        std::fill_n(bestB1, count_, none.b1);
+        std::fill_n(bestB2, count_, none.b2);
+        return;
+    }
+    const std::vector<VisibilityRecord>& records = buffer.records();
+    for (int i = 0; i < count_; ++i) {
+        const VisibilityRecord& r = records[record[i]];
+        bestDepth[i] = r.depth;
+        bestPatch[i] = r.patch;
+        bestTriangle[i] = r.triangle;
+        bestB1[i] = r.b1;
+        bestB2[i] = r.b2;
+    }
 }
 
 void TileRays::setFlags() {
@@ -144,8 +189,7 @@ void TileRays::setFlags() {
 }
 
 void TileRays::load(const TileRect& rect, const VisibilityBuffer& buffer) {
-    gather(rect);
-    orderByBucket();
+    orderByBucket(rect);
     padded_ = roundUpToLanes(count_);
     // Dead samples: in no time range (NaN fails every comparison), never hit, depth bound 0.
     for (int i = count_; i < padded_; ++i) {
@@ -154,17 +198,10 @@ void TileRays::load(const TileRect& rect, const VisibilityBuffer& buffer) {
         record[i] = 0;
     }
     const Camera& camera = *frame_.camera;
-    computeRayConstants(*this, {float(camera.width()), float(camera.height()), camera.tanHalfFovY(),
-                                camera.aspect(), frame_.lens.focusDistance, frame_.lens.radius});
-    const std::vector<VisibilityRecord>& records = buffer.records();
-    for (int i = 0; i < count_; ++i) {
-        const VisibilityRecord& r = records[record[i]];
-        bestDepth[i] = r.depth;
-        bestPatch[i] = r.patch;
-        bestTriangle[i] = r.triangle;
-        bestB1[i] = r.b1;
-        bestB2[i] = r.b2;
-    }
+    computeRayConstants(*this, {float(camera.width()), float(camera.height()),
+                                camera.tanHalfFovY(), camera.aspect(), frame_.lens.focusDistance,
+                                frame_.lens.radius});
+    startHits(buffer);
     for (int i = count_; i < padded_; ++i) {
         axisX[i] = 1;
         axisY[i] = 0;

@@ -16,8 +16,8 @@
 // is one bucket. The order depends only on the sample set, never on the geometry or the threads.
 //
 // Per sample: the ray (time t and 1 - t; origin on the lens plane z = 0; direction, whose z is
-// the same for every camera ray), the constants of the 12-multiply-add moving-box test (a, b, c
-// per axis; c is 0 along z), the shear of the watertight triangle test (axes kx, ky, kz and sx,
+// the same for every camera ray), the constants of the 12-multiply-add moving-box test (1/d per
+// axis, from which a = (1 - t)/d and b = t/d follow in two multiplies, and c = -o/d, 0 along z), the shear of the watertight triangle test (axes kx, ky, kz and sx,
 // sy, sz), which axes the ray runs parallel to, its visibility-buffer record and lens sample, and
 // the nearest hit so far (depth, patch, triangle, barycentrics) with the ray end z culling
 // derives from it. Per batch of kMaxLanes samples: whether every ray shears along z (the fast
@@ -27,6 +27,7 @@
 #include <hwy/aligned_allocator.h>
 
 #include <algorithm>
+#include <array>
 #include <cstdint>
 #include <vector>
 
@@ -56,6 +57,9 @@ struct TileRayFrame {
     bool motion = false;  // samples vary in time: order them by time bucket
     int tileSize = 8;
     bool countPerSample = false;  // keep per-sample work for heat maps
+    // The visibility buffer holds no hits yet: a tile's samples start without one instead of
+    // reading the buffer.
+    bool bufferStartsEmpty = false;
 };
 
 // The camera as the ray setup needs it (rasterToScreen, makeCameraRay).
@@ -72,7 +76,8 @@ class TileRays {
     // Allocates for the frame's largest tile; nothing is allocated per tile afterwards.
     explicit TileRays(const TileRayFrame& frame);
 
-    // Makes the rays of tile `rect`; each sample's nearest hit so far comes from `buffer`.
+    // Makes the rays of tile `rect`; each sample's nearest hit so far comes from `buffer` (unless
+    // the frame says it starts empty).
     void load(const TileRect& rect, const VisibilityBuffer& buffer);
     // Writes the samples that got a nearer hit back to `buffer`, and per-sample work to `pixels`.
     void store(VisibilityBuffer& buffer, PixelCounters* pixels) const;
@@ -97,7 +102,11 @@ class TileRays {
     // The ray constants shared by every sample of the frame.
     float depthPerLambda() const { return depthPerLambda_; }
     float lambdaMin() const { return lambdaMin_; }
+    // 1 / direction z, which every camera ray shares.
+    float inverseZ() const { return 1.0f / -depthPerLambda_; }
     float farDepth() const { return farDepth_; }
+    // The shear sz of a ray that shears along z: 1 / dz, which every camera ray shares.
+    float shearAlongZ() const { return 1.0f / -depthPerLambda_; }
     // The slab-test ray of sample i (for the rare ray parallel to an axis).
     SlabRay slabRay(int i) const;
     // The scalar ray and shear of sample i (for the rare degenerate triangle test).
@@ -111,8 +120,8 @@ class TileRays {
     float* originY;
     float* directionX;
     float* directionY;
-    float* slabA[3];
-    float* slabB[3];
+    float* inverseX;  // 1 / direction, or 0 where the ray runs parallel to the axis
+    float* inverseY;
     float* slabC[2];
     float* shearX;
     float* shearY;
@@ -148,8 +157,11 @@ class TileRays {
     std::uint16_t* passImproved() { return improved_.get(); }
 
   private:
-    void gather(const TileRect& rect);
-    void orderByBucket();
+    // The tile's pixels in Morton order, and the samples of the k-th.
+    int pixelCount(const TileRect& rect);
+    void pixelSamples(int k, const Sample*& samples, const Vec2*& disk);
+    void orderByBucket(const TileRect& rect);
+    void startHits(const VisibilityBuffer& buffer);
     void setFlags();
 
     TileRayFrame frame_;
@@ -160,10 +172,12 @@ class TileRays {
     bool allAlongZ_ = true, anyParallel_ = false;
     std::vector<int> bucketBegin_;       // buckets + 1
     std::vector<std::uint16_t> morton_;  // the tile's pixels (y * tileSize + x) in Morton order
-    // Staging of the tile's samples in pixel order, before they are ordered by bucket.
-    std::vector<Sample> stagedSamples_;
-    std::vector<Vec2> stagedDisk_;
-    std::vector<std::uint32_t> stagedRecord_;
+    // The current tile's pixels (x, y) in Morton order, and each sample's bucket in that order.
+    std::vector<std::array<int, 2>> pixels_;
+    std::vector<std::uint16_t> bucket_;
+    // The generator's samples of the tile (a table's are read in place).
+    std::vector<Sample> generated_;
+    std::vector<Vec2> generatedDisk_;
     hwy::AlignedFreeUniquePtr<float[]> floats_;
     hwy::AlignedFreeUniquePtr<std::int32_t[]> ints_;
     hwy::AlignedFreeUniquePtr<std::uint32_t[]> counts_;

@@ -118,9 +118,12 @@ TEST(TileRays, RaysEqualTheScalarRaysBitForBit) {
                             ASSERT_TRUE(sameBits(made.direction[k], expected.direction[k]));
                         }
                         const SlabRay slab = makeSlabRay(expected);
+                        // a and b follow from 1/d as the kernels compute them.
+                        const float inverse[3] = {rays.inverseX[i], rays.inverseY[i],
+                                                  rays.inverseZ()};
                         for (int k = 0; k < 3; ++k) {
-                            ASSERT_TRUE(sameBits(rays.slabA[k][i], slab.a[k])) << k;
-                            ASSERT_TRUE(sameBits(rays.slabB[k][i], slab.b[k])) << k;
+                            ASSERT_TRUE(sameBits((1.0f - rays.time[i]) * inverse[k], slab.a[k]));
+                            ASSERT_TRUE(sameBits(rays.time[i] * inverse[k], slab.b[k])) << k;
                         }
                         ASSERT_TRUE(sameBits(rays.slabC[0][i], slab.c[0]));
                         ASSERT_TRUE(sameBits(rays.slabC[1][i], slab.c[1]));

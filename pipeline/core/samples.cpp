@@ -151,16 +151,17 @@ SampleTable::SampleTable(const SampleGenerator& generator, int width, int height
     });
 }
 
-void SampleSource::pixel(int x, int y, Sample* samples, Vec2* disk) const {
+void SampleSource::pixel(int x, int y, Sample* samples, Vec2* disk, const Sample*& pixelSamples,
+                         const Vec2*& pixelDisk) const {
     if (table) {
-        const int spp = table->samplesPerPixel();
-        std::copy_n(table->pixel(x, y), spp, samples);
-        std::copy_n(table->disk(x, y), spp, disk);
+        pixelSamples = table->pixel(x, y);
+        pixelDisk = table->disk(x, y);
         return;
     }
     generator->pixelSamples(x, y, samples);
-    for (int s = 0; s < generator->samplesPerPixel(); ++s)
-        disk[s] = concentricDisk(samples[s].lens);
+    for (int s = 0; s < generator->samplesPerPixel(); ++s) disk[s] = concentricDisk(samples[s].lens);
+    pixelSamples = samples;
+    pixelDisk = disk;
 }
 
 }  // namespace patchsim

@@ -88,8 +88,10 @@ class SampleTable {
 struct SampleSource {
     const SampleGenerator* generator = nullptr;
     const SampleTable* table = nullptr;
-    // The pixel's samples and their lens points on the disk.
-    void pixel(int x, int y, Sample* samples, Vec2* disk) const;
+    // The pixel's samples and their lens points on the disk: the table's own, or made by the
+    // generator into `samples` and `disk` (room for samplesPerPixel each).
+    void pixel(int x, int y, Sample* samples, Vec2* disk, const Sample*& pixelSamples,
+               const Vec2*& pixelDisk) const;
 };
 
 // A 64-bit mix (SplitMix64 finaliser) used for all sample hashing.

@@ -157,6 +157,7 @@ Visibility runVisibility(const SceneDesc& scene, const RenderOptions& options,
     if (usesPatchRasterizer(options.method)) {
         FrameRasterOptions frame;
         frame.threads = workers;
+        frame.opaqueStartsEmpty = true;  // the buffers renderScene makes
         if (options.patchOrderSeed) {
             frame.order.resize(count);
             std::iota(frame.order.begin(), frame.order.end(), std::size_t(0));
