@@ -108,12 +108,13 @@ std::vector<float> shadeSamples(const ShadingContext& c, const VisibilityBuffer&
 }
 
 Image filterSamples(const std::vector<float>& colors, const VisibilityBuffer& layout,
-                    const SampleGenerator& samples, const ResolveOptions& options) {
+                    const SampleGenerator& samples, const ResolveOptions& options, int threads) {
     const int w = layout.width(), h = layout.height(), spp = layout.samplesPerPixel();
     Image image(w, h);
     const int reach =
         options.filter == ResolveFilter::Box ? 0 : int(std::ceil(options.gaussianRadius - 0.5f));
-    for (int y = 0; y < h; ++y) {
+    parallelFor(std::size_t(h), threads, [&](int, std::size_t row) {
+        const int y = int(row);
         for (int x = 0; x < w; ++x) {
             Vec3 sum(0);
             float weights = 0;
@@ -138,7 +139,7 @@ Image filterSamples(const std::vector<float>& colors, const VisibilityBuffer& la
             }
             image.set(x, y, weights > 0 ? sum / weights : Vec3(0));
         }
-    }
+    });
     return image;
 }
 
@@ -148,14 +149,15 @@ ResolvedFrame resolveFrame(const ShadingContext& c, const VisibilityBuffer& opaq
     ResolvedFrame frame;
     frame.color =
         filterSamples(shadeSamples(c, opaque, transparent, options.shadingRate, threads, progress),
-                      opaque, samples, options);
+                      opaque, samples, options, threads);
     const std::size_t pixels = std::size_t(opaque.width()) * std::size_t(opaque.height());
     frame.depth.assign(pixels, 0.0f);
     frame.coverage.assign(pixels, 0.0f);
     frame.motionX.assign(pixels, 0.0f);
     frame.motionY.assign(pixels, 0.0f);
     const int spp = opaque.samplesPerPixel();
-    for (int y = 0; y < opaque.height(); ++y) {
+    parallelFor(std::size_t(opaque.height()), threads, [&](int, std::size_t row) {
+        const int y = int(row);
         for (int x = 0; x < opaque.width(); ++x) {
             const std::size_t p = std::size_t(y) * std::size_t(opaque.width()) + std::size_t(x);
             int hits = 0, covered = 0;
@@ -181,16 +183,21 @@ ResolvedFrame resolveFrame(const ShadingContext& c, const VisibilityBuffer& opaq
                 frame.motionY[p] /= float(hits);
             }
         }
-    }
+    });
     return frame;
 }
 
 std::vector<double> shadingWorkPerPatch(const VisibilityBuffer& opaque,
                                         const TransparentLayers* transparent, ShadingRate rate,
-                                        std::size_t patchCount) {
-    std::vector<double> work(patchCount, 0.0);
-    std::vector<std::pair<std::int32_t, std::uint32_t>> seen;  // per pixel, for the reuse rate
-    for (int y = 0; y < opaque.height(); ++y) {
+                                        std::size_t patchCount, int threads) {
+    // Counts per worker, summed after: whole numbers, so the sum is exact in any order.
+    const int workers = std::max(1, std::min(resolveThreadCount(threads), opaque.height()));
+    std::vector<std::vector<double>> counts(std::size_t(workers),
+                                            std::vector<double>(patchCount, 0.0));
+    parallelFor(std::size_t(opaque.height()), workers, [&](int w, std::size_t row) {
+        std::vector<double>& work = counts[std::size_t(w)];
+        std::vector<std::pair<std::int32_t, std::uint32_t>> seen;  // per pixel, for the reuse rate
+        const int y = int(row);
         for (int x = 0; x < opaque.width(); ++x) {
             seen.clear();
             auto charge = [&](const VisibilityRecord& r) {
@@ -212,7 +219,10 @@ std::vector<double> shadingWorkPerPatch(const VisibilityBuffer& opaque,
                 }
             }
         }
-    }
+    });
+    std::vector<double> work(patchCount, 0.0);
+    for (const std::vector<double>& c : counts)
+        for (std::size_t i = 0; i < patchCount; ++i) work[i] += c[i];
     return work;
 }
 

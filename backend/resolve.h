@@ -37,9 +37,10 @@ std::vector<float> shadeSamples(const ShadingContext& context, const VisibilityB
                                 const TransparentLayers* transparent, ShadingRate rate, int threads,
                                 class Progress* progress = nullptr);
 
-// Filters per-sample colours to pixels; `samples` gives each sample's position in its pixel.
+// Filters per-sample colours to pixels, a row per work item on `threads` workers; `samples` gives
+// each sample's position in its pixel.
 Image filterSamples(const std::vector<float>& sampleColors, const VisibilityBuffer& layout,
-                    const SampleGenerator& samples, const ResolveOptions& options);
+                    const SampleGenerator& samples, const ResolveOptions& options, int threads = 1);
 
 // `samples` gives each sample's position in its pixel, for the Gaussian filter.
 ResolvedFrame resolveFrame(const ShadingContext& context, const VisibilityBuffer& opaque,
@@ -51,7 +52,7 @@ ResolvedFrame resolveFrame(const ShadingContext& context, const VisibilityBuffer
 // distinct pixel-triangle pairs at the per-pixel-primitive rate), for the timing model.
 std::vector<double> shadingWorkPerPatch(const VisibilityBuffer& opaque,
                                         const TransparentLayers* transparent, ShadingRate rate,
-                                        std::size_t patchCount);
+                                        std::size_t patchCount, int threads = 1);
 
 // EXR with channels R, G, B, Z, coverage, motion.x, motion.y (linear float).
 void writeExrWithAovs(const ResolvedFrame& frame, const std::string& path);

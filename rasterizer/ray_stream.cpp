@@ -434,8 +434,9 @@ class Pass {
     // VisibilityRecord::nearerThan lane by lane: depth, then patch, then triangle (unsigned).
     MF nearerThan(const Candidate& a, const Candidate& b) const {
         const VU patchA = hn::BitCast(du_, a.patch), patchB = hn::BitCast(du_, b.patch);
-        const auto tieLess = hn::Or(hn::Lt(patchA, patchB),
-                                    hn::And(hn::Eq(patchA, patchB), hn::Lt(a.triangle, b.triangle)));
+        const auto tieLess =
+            hn::Or(hn::Lt(patchA, patchB),
+                   hn::And(hn::Eq(patchA, patchB), hn::Lt(a.triangle, b.triangle)));
         return hn::Or(hn::Lt(a.depth, b.depth),
                       hn::And(hn::Eq(a.depth, b.depth), hn::RebindMask(d_, tieLess)));
     }

@@ -54,9 +54,9 @@ TileRays::TileRays(const TileRayFrame& frame) : frame_(frame) {
     const auto n = std::size_t(capacity_);
     floats_ = hwy::AllocateAligned<float>(n * kFloatArrays);
     float** floatArrays[kFloatArrays] = {
-        &time,     &weight0,  &originX,  &originY,   &directionX, &directionY, &inverseX, &inverseY,
-        &slabC[0], &slabC[1], &shearX,   &shearY,    &shearZ,     &lensU,      &lensV,    &bestDepth,
-        &bestB1,   &bestB2,   &rayEnd,   nullptr,    nullptr,     nullptr,     nullptr,   nullptr};
+        &time,     &weight0,  &originX, &originY, &directionX, &directionY, &inverseX, &inverseY,
+        &slabC[0], &slabC[1], &shearX,  &shearY,  &shearZ,     &lensU,      &lensV,    &bestDepth,
+        &bestB1,   &bestB2,   &rayEnd,  nullptr,  nullptr,     nullptr,     nullptr,   nullptr};
     for (int a = 0; a < kFloatArrays; ++a)
         if (floatArrays[a]) *floatArrays[a] = floats_.get() + std::size_t(a) * n;
     ints_ = hwy::AllocateAligned<std::int32_t>(n * kIntArrays);
@@ -132,13 +132,15 @@ void TileRays::orderByBucket(const TileRect& rect) {
     std::vector<int>& next = bucketBegin_;  // advanced while filling, then restored
     for (int k = 0; k < pixels; ++k) {
         // The table's samples are read in place; the generator's are still in generated_.
-        if (frame_.samples.table) pixelSamples(k, samples, disk);
+        if (frame_.samples.table)
+            pixelSamples(k, samples, disk);
         else {
             samples = &generated_[std::size_t(k * spp)];
             disk = &generatedDisk_[std::size_t(k * spp)];
         }
         const int x = pixels_[std::size_t(k)][0], y = pixels_[std::size_t(k)][1];
-        const std::size_t firstRecord = (std::size_t(y) * width + std::size_t(x)) * std::size_t(spp);
+        const std::size_t firstRecord =
+            (std::size_t(y) * width + std::size_t(x)) * std::size_t(spp);
         for (int j = 0; j < spp; ++j) {
             const Sample& smp = samples[j];
             const int i = next[bucket_[std::size_t(k * spp + j)]]++;
@@ -167,7 +169,7 @@ void TileRays::startHits(const VisibilityBuffer& buffer) {
         std::fill_n(bestB2, count_, none.b2);
         return;
     }
-    const std::vector<VisibilityRecord>& records = buffer.records();
+    const std::span<const VisibilityRecord> records = buffer.records();
     for (int i = 0; i < count_; ++i) {
         const VisibilityRecord& r = records[record[i]];
         bestDepth[i] = r.depth;
@@ -198,9 +200,8 @@ void TileRays::load(const TileRect& rect, const VisibilityBuffer& buffer) {
         record[i] = 0;
     }
     const Camera& camera = *frame_.camera;
-    computeRayConstants(*this, {float(camera.width()), float(camera.height()),
-                                camera.tanHalfFovY(), camera.aspect(), frame_.lens.focusDistance,
-                                frame_.lens.radius});
+    computeRayConstants(*this, {float(camera.width()), float(camera.height()), camera.tanHalfFovY(),
+                                camera.aspect(), frame_.lens.focusDistance, frame_.lens.radius});
     startHits(buffer);
     for (int i = count_; i < padded_; ++i) {
         axisX[i] = 1;
@@ -225,7 +226,7 @@ float TileRays::farthestDepthBound() {
 }
 
 void TileRays::store(VisibilityBuffer& buffer, PixelCounters* pixels) const {
-    std::vector<VisibilityRecord>& records = buffer.mutableRecords();
+    const std::span<VisibilityRecord> records = buffer.mutableRecords();
     for (int b = 0; b < padded_ / kMaxLanes; ++b) {
         if (!changed[b]) continue;
         for (int lane = 0; lane < kMaxLanes; ++lane) {

@@ -17,12 +17,13 @@
 //
 // Per sample: the ray (time t and 1 - t; origin on the lens plane z = 0; direction, whose z is
 // the same for every camera ray), the constants of the 12-multiply-add moving-box test (1/d per
-// axis, from which a = (1 - t)/d and b = t/d follow in two multiplies, and c = -o/d, 0 along z), the shear of the watertight triangle test (axes kx, ky, kz and sx,
-// sy, sz), which axes the ray runs parallel to, its visibility-buffer record and lens sample, and
-// the nearest hit so far (depth, patch, triangle, barycentrics) with the ray end z culling
-// derives from it. Per batch of kMaxLanes samples: whether every ray shears along z (the fast
-// path of the triangle test), whether any runs parallel to an axis, and which samples got a nearer
-// hit during the tile (written back to the visibility buffer at the end).
+// axis, from which a = (1 - t)/d and b = t/d follow in two multiplies, and c = -o/d, 0 along z),
+// the shear of the watertight triangle test (axes kx, ky, kz and sx, sy, sz), which axes the ray
+// runs parallel to, its visibility-buffer record and lens sample, and the nearest hit so far
+// (depth, patch, triangle, barycentrics) with the ray end z culling derives from it. Per batch of
+// kMaxLanes samples: whether every ray shears along z (the fast path of the triangle test), whether
+// any runs parallel to an axis, and which samples got a nearer hit during the tile (written back to
+// the visibility buffer at the end).
 
 #include <hwy/aligned_allocator.h>
 

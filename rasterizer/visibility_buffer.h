@@ -13,7 +13,9 @@
 
 #include <cstdint>
 #include <limits>
-#include <vector>
+#include <memory>
+#include <new>
+#include <span>
 
 #include "pipeline/core/math.h"
 
@@ -39,12 +41,9 @@ static_assert(sizeof(VisibilityRecord) == 32, "the film's memory budget counts 3
 
 class VisibilityBuffer {
   public:
-    VisibilityBuffer(int width, int height, int spp, float farDepth)
-        : width_(width),
-          height_(height),
-          spp_(spp),
-          far_(farDepth),
-          records_(std::size_t(width) * std::size_t(height) * std::size_t(spp)) {}
+    // `threads` workers write the empty records (the first touch of a frame's worth of memory is
+    // a large serial cost otherwise).
+    VisibilityBuffer(int width, int height, int spp, float farDepth, int threads = 1);
 
     int width() const { return width_; }
     int height() const { return height_; }
@@ -62,13 +61,21 @@ class VisibilityBuffer {
         VisibilityRecord& r = records_[index(x, y, s)];
         if (hit.nearerThan(r)) r = hit;
     }
-    const std::vector<VisibilityRecord>& records() const { return records_; }
-    std::vector<VisibilityRecord>& mutableRecords() { return records_; }
+    std::span<const VisibilityRecord> records() const { return {records_.get(), size_}; }
+    std::span<VisibilityRecord> mutableRecords() { return {records_.get(), size_}; }
 
   private:
+    // Records live in raw storage the constructor's workers construct them in.
+    static VisibilityRecord* allocate(std::size_t records);
+    struct Release {
+        void operator()(VisibilityRecord* p) const {
+            ::operator delete[](p, std::align_val_t(std::size_t(2) << 20));
+        }
+    };
     int width_, height_, spp_;
     float far_;
-    std::vector<VisibilityRecord> records_;
+    std::size_t size_;
+    std::unique_ptr<VisibilityRecord[], Release> records_;
 };
 
 }  // namespace patchsim

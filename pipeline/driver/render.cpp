@@ -319,8 +319,9 @@ RenderResult renderScene(const SceneDesc& scene, const RenderOptions& options) {
                                       ? SamplePattern::Interleaved
                                       : scene.film.sampler,
                                   sharpFrame && !reprojection ? 0.5f : 0.0f);
-    result.visibility = std::make_unique<VisibilityBuffer>(
-        scene.film.width, scene.film.height, scene.film.samplesPerPixel, camera.farPlane());
+    result.visibility =
+        std::make_unique<VisibilityBuffer>(scene.film.width, scene.film.height,
+                                           scene.film.samplesPerPixel, camera.farPlane(), workers);
     if (result.effects.transparency)
         result.transparent = std::make_unique<TransparentLayers>(
             result.visibility->records().size(), options.maxLayers);
@@ -372,8 +373,9 @@ RenderResult renderScene(const SceneDesc& scene, const RenderOptions& options) {
                                        scene.film.sampler, 1.0f);
     std::unique_ptr<VisibilityBuffer> closeFrame;
     if (reprojection) {
-        closeFrame = std::make_unique<VisibilityBuffer>(
-            scene.film.width, scene.film.height, scene.film.samplesPerPixel, camera.farPlane());
+        closeFrame = std::make_unique<VisibilityBuffer>(scene.film.width, scene.film.height,
+                                                        scene.film.samplesPerPixel,
+                                                        camera.farPlane(), workers);
         RenderOptions whole = options;
         whole.share = {};
         Visibility second = runVisibility(scene, whole, fe, camera, closeSamples, rasterized,
@@ -412,14 +414,14 @@ RenderResult renderScene(const SceneDesc& scene, const RenderOptions& options) {
     }
     if (tfragment) {
         result.frame.color =
-            filterSamples(tfragmentColors, *result.visibility, samples, options.resolve);
+            filterSamples(tfragmentColors, *result.visibility, samples, options.resolve, workers);
     } else if (reprojection && result.effects.motion) {
         const std::vector<float> openColors = shadeSamples(context, *result.visibility, nullptr,
                                                            options.resolve.shadingRate, workers);
         const std::vector<float> closeColors =
             shadeSamples(context, *closeFrame, nullptr, options.resolve.shadingRate, workers);
         const Image closePixels =
-            filterSamples(closeColors, *closeFrame, closeSamples, options.resolve);
+            filterSamples(closeColors, *closeFrame, closeSamples, options.resolve, workers);
         result.frame.color = reprojectSamples(
             context, {result.visibility.get(), &openColors, &samples, 0.0f},
             {closeFrame.get(), &closeColors, &closeSamples, 1.0f}, result.frame.color, closePixels,
@@ -439,7 +441,7 @@ RenderResult renderScene(const SceneDesc& scene, const RenderOptions& options) {
     result.shadingSeconds = secondsSince(start);
     result.patchOps = collectPatchOps(
         fe.patches, shadingWorkPerPatch(*result.visibility, result.transparent.get(),
-                                        options.resolve.shadingRate, result.patches));
+                                        options.resolve.shadingRate, result.patches, workers));
     for (std::size_t i = 0; i < result.patches; ++i)
         for (int op = 0; op < kOpCount; ++op)
             if (stageOf(Op(op)) == Stage::RS || op == int(Op::DepthTests) ||
