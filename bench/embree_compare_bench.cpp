@@ -1,37 +1,59 @@
-// The same visibility work, side by side: every sample of the default scene's frame resolved by
-// the patch rasterizer (hierarchies, tile tests, rays from branch nodes) and by Embree 3 tracing
-// one motion-blurred ray per sample through a BVH over the same tessellated, camera-space
-// triangles (two time steps, linear motion, the same rays: same origins, directions and times).
-// Built only when CMake finds Embree 3 (Debian's libembree-dev).
+// The same visibility work, side by side: every sample of a frame resolved by the patch rasterizer
+// (hierarchies, tile tests, rays from branch nodes) and by Embree 3 tracing one ray per sample
+// through a BVH over the same tessellated, camera-space triangles (two time steps and linear
+// motion when anything moves; the same rays: same origins, directions and times).
+//
+// Both read the frame's samples from one table made before timing (the sampler is not
+// visibility work); each makes its rays inside its timed loop. Embree's BVH is built outside its
+// timed loop, the patch rasterizer's hierarchies inside. Arguments: scene, blur level, lens,
+// threads (docs/PERFORMANCE.md). Built only when CMake finds Embree 3 (Debian's libembree-dev).
 
 #include <benchmark/benchmark.h>
 #include <embree3/rtcore.h>
 
+#include <algorithm>
+#include <memory>
+#include <string>
+
 #include "pipeline/core/counters.h"
+#include "pipeline/core/parallel.h"
 #include "pipeline/core/scene_reader.h"
 #include "pipeline/driver/render.h"
 #include "rasterizer/frame_rasterizer.h"
-#include "rasterizer/sample_rays.h"
 #include "tessellator/front_end.h"
 
 namespace {
 
 using namespace patchsim;
 
-// The scenes compared (range(0)): 0 the default scene (6,036 moving triangles at its adaptive
-// factors); 1 the same at a fixed tessellation factor of 32 (58 patches: 115,424 moving
-// triangles); 2 docs/performance/scale_1m.json (1,269,760 moving triangles, 1920x1080, 16 spp,
-// lens).
-SceneDesc comparedScene(std::int64_t variant) {
-    if (variant == 2)
-        return readSceneFile(std::string(PATCHSIM_SOURCE_DIR) + "/docs/performance/scale_1m.json");
-    SceneDesc scene = patchsim::defaultScene();
-    if (variant == 1) {
-        scene.tessellation.targetEdgePixels = 0;
-        scene.tessellation.factor = 32.0f;
-    }
+constexpr const char* kSceneNames[] = {"default", "factor32", "scale1m"};
+constexpr const char* kBlurNames[] = {"none", "moderate", "large"};
+// Object motion at each blur level, as a fraction of the scene's own (which moves the torus by
+// about a quarter of the frame's width over the shutter: large).
+constexpr float kMotionScale[] = {0.0f, 0.25f, 1.0f};
 
-    return scene;
+// The scenes: 0 the default scene (320x240, 16 spp, 6,036 triangles at its adaptive factors);
+// 1 the same at a fixed tessellation factor of 32 (115,424 triangles); 2
+// docs/performance/scale_1m.json (1920x1080, 16 spp, 1,269,760 triangles). Blur scales each
+// object's motion; without a lens the aperture is 0.
+SceneDesc comparedScene(int scene, int blur, bool lens) {
+    SceneDesc s =
+        scene == 2
+            ? readSceneFile(std::string(PATCHSIM_SOURCE_DIR) + "/docs/performance/scale_1m.json")
+            : patchsim::defaultScene();
+    if (scene == 1) {
+        s.tessellation.targetEdgePixels = 0;
+        s.tessellation.factor = 32.0f;
+    }
+    const float k = kMotionScale[blur];
+    for (ObjectDesc& o : s.objects) {
+        o.close.translate = o.open.translate + k * (o.close.translate - o.open.translate);
+        o.close.rotateDegrees =
+            o.open.rotateDegrees + k * (o.close.rotateDegrees - o.open.rotateDegrees);
+        o.close.scale = o.open.scale + k * (o.close.scale - o.open.scale);
+    }
+    if (!lens) s.lens.apertureRadius = 0.0f;
+    return s;
 }
 
 struct Frame {
@@ -42,78 +64,93 @@ struct Frame {
     std::unique_ptr<SampleGenerator> samples;
     std::unique_ptr<SampleTable> table;
     LensModel lens;
+    std::size_t triangles = 0;
 
-    explicit Frame(std::int64_t variant) : scene(comparedScene(variant)) {
+    explicit Frame(const SceneDesc& s) : scene(s) {
         frontEnd = std::make_unique<FrontEnd>(scene);
         effects = detectEffects(scene, frontEnd->geometryMoves(), frontEnd->camera().moves());
-        FrontEndWorkspace ws = frontEnd->makeWorkspace();
-        TessellatedPatch patch;
         meshes.resize(frontEnd->patchCount());
-        for (std::size_t i = 0; i < meshes.size(); ++i) {
-            frontEnd->tessellate(i, patch, ws);
+        std::vector<FrontEndWorkspace> workspaces;
+        for (int w = 0; w < 2; ++w) workspaces.push_back(frontEnd->makeWorkspace());
+        parallelFor(meshes.size(), 2, [&](int w, std::size_t i) {
+            TessellatedPatch patch;
+            frontEnd->tessellate(i, patch, workspaces[std::size_t(w)]);
             toMovingMesh(patch, frontEnd->camera(), effects.motion, int(i), true, meshes[i]);
-        }
+        });
+        for (const MovingMesh& m : meshes) triangles += m.triangleCount();
         samples =
             std::make_unique<SampleGenerator>(scene.film.seed, scene.film.samplesPerPixel, effects);
-        table = std::make_unique<SampleTable>(*samples, scene.film.width, scene.film.height, 0);
-        lens = {scene.lens.apertureRadius, scene.lens.focusDistance};
+        table = std::make_unique<SampleTable>(*samples, scene.film.width, scene.film.height, 2);
+        lens = {effects.defocus ? scene.lens.apertureRadius : 0.0f, scene.lens.focusDistance};
     }
     std::int64_t sampleCount() const {
         return std::int64_t(scene.film.width) * scene.film.height * scene.film.samplesPerPixel;
     }
 };
 
-std::size_t triangleCount(const Frame& f) {
-    std::size_t n = 0;
-    for (const MovingMesh& m : f.meshes) n += m.triangleCount();
-    return n;
+// One frame at a time (the largest takes gigabytes): benchmarks are registered frame by frame.
+const Frame& frame(int scene, int blur, bool lens) {
+    static std::unique_ptr<Frame> cached;
+    static int key = -1;
+    const int wanted = scene * 100 + blur * 10 + int(lens);
+    if (key != wanted) {
+        cached.reset();
+        cached = std::make_unique<Frame>(comparedScene(scene, blur, lens));
+        key = wanted;
+    }
+    return *cached;
 }
 
-// Made on first use: the large frame costs a second and a gigabyte, only when it runs.
-const Frame& frame(std::int64_t variant) {
-    static std::unique_ptr<Frame> frames[3];
-    std::unique_ptr<Frame>& f = frames[variant];
-    if (!f) f = std::make_unique<Frame>(variant);
-    return *f;
+void reportCommon(benchmark::State& state, const Frame& f, std::int64_t hits) {
+    state.counters["samples/s"] =
+        benchmark::Counter(double(f.sampleCount()), benchmark::Counter::kIsIterationInvariantRate);
+    state.counters["covered samples"] = double(hits);
+    state.counters["triangles"] = double(f.triangles);
 }
 
-void patchRasterizer(benchmark::State& state) {
-    const Frame& f = frame(state.range(0));
+void patchRasterizer(benchmark::State& state, int scene, int blur, bool lens, int threads) {
+    const Frame& f = frame(scene, blur, lens);
     const Camera& camera = f.frontEnd->camera();
     const PatchRasterizer rasterizer(camera, f.lens, *f.samples, f.effects, f.scene.rasterizer);
-    std::int64_t hits = 0;
-    FrameRasterOptions singleThread;
-    singleThread.threads = 1;
-    singleThread.sampleTable = f.table.get();
-    singleThread.opaqueStartsEmpty = true;
+    FrameRasterOptions options;
+    options.threads = threads;
+    options.sampleTable = f.table.get();
+    options.opaqueStartsEmpty = true;
     // The output buffer is made and cleared outside the timed region (Embree's loop keeps none).
     VisibilityBuffer buffer(f.scene.film.width, f.scene.film.height, f.scene.film.samplesPerPixel,
-                            camera.farPlane());
+                            camera.farPlane(), 2);
+    std::int64_t hits = 0;
+    RasterWork work;
     for (auto _ : state) {
-        rasterizeFrame(f.meshes, rasterizer, {&buffer, nullptr, nullptr, 0}, singleThread);
+        const FrameRasterWork frameWork =
+            rasterizeFrame(f.meshes, rasterizer, {&buffer, nullptr, nullptr, 0}, options);
         state.PauseTiming();
+        work = {};
+        for (std::size_t i = 0; i < f.meshes.size(); ++i) work.add(frameWork.patch(i));
         hits = 0;
         for (const VisibilityRecord& r : buffer.records()) hits += r.hit();
         std::fill(buffer.mutableRecords().begin(), buffer.mutableRecords().end(),
                   VisibilityRecord{});
         state.ResumeTiming();
     }
-    state.counters["samples/s"] =
-        benchmark::Counter(double(f.sampleCount()), benchmark::Counter::kIsIterationInvariantRate);
-    state.counters["covered samples"] = double(hits);
-    state.counters["triangles"] = double(triangleCount(f));
+    reportCommon(state, f, hits);
+    state.counters["STE"] =
+        double(work.visibilitySamples) / double(std::max<std::int64_t>(work.samplesTested, 1));
+    state.counters["rays/sample"] = double(work.raysCast) / double(f.sampleCount());
+    state.counters["ray-box/ray"] =
+        double(work.rayBoxTests) / double(std::max<std::int64_t>(work.raysCast, 1));
+    state.counters["ray-tri/ray"] =
+        double(work.rayTriangleTests) / double(std::max<std::int64_t>(work.raysCast, 1));
 }
-BENCHMARK(patchRasterizer)->DenseRange(0, 2)->Unit(benchmark::kMillisecond);
 
-void embree(benchmark::State& state) {
-    const Frame& f = frame(state.range(0));
-    const Camera& camera = f.frontEnd->camera();
-    RTCDevice device = rtcNewDevice("threads=1");
+RTCScene buildEmbreeScene(RTCDevice device, const Frame& f) {
+    const bool moves = f.effects.motion;
     RTCScene scene = rtcNewScene(device);
     for (const MovingMesh& m : f.meshes) {
         RTCGeometry geometry = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
-        rtcSetGeometryTimeStepCount(geometry, 2);
-        for (unsigned step = 0; step < 2; ++step) {
+        const unsigned steps = moves ? 2 : 1;
+        rtcSetGeometryTimeStepCount(geometry, steps);
+        for (unsigned step = 0; step < steps; ++step) {
             auto* v = static_cast<float*>(
                 rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_VERTEX, step, RTC_FORMAT_FLOAT3,
                                         3 * sizeof(float), m.position0.size()));
@@ -133,47 +170,89 @@ void embree(benchmark::State& state) {
         rtcReleaseGeometry(geometry);
     }
     rtcCommitScene(scene);
+    return scene;
+}
+
+// Every sample of rows [y0, y1) traced; returns the hits.
+std::int64_t traceRows(RTCScene scene, const Frame& f, int y0, int y1) {
+    const Camera& camera = f.frontEnd->camera();
+    RTCIntersectContext context;
+    rtcInitIntersectContext(&context);
     std::int64_t hits = 0;
-    for (auto _ : state) {
-        hits = 0;
-        RTCIntersectContext context;
-        rtcInitIntersectContext(&context);
-        for (int y = 0; y < f.scene.film.height; ++y) {
-            for (int x = 0; x < f.scene.film.width; ++x) {
-                const Sample* pixel = f.table->pixel(x, y);
-                const Vec2* disk = f.table->disk(x, y);
-                for (int s = 0; s < f.scene.film.samplesPerPixel; ++s) {
-                    const Vec2 raster = Vec2(float(x), float(y)) + pixel[s].pixelOffset;
-                    const Ray ray = makeCameraRay(camera, rasterToScreen(camera, raster), disk[s],
-                                                  pixel[s].time, f.lens);
-                    RTCRayHit rh;
-                    rh.ray.org_x = ray.origin.x;
-                    rh.ray.org_y = ray.origin.y;
-                    rh.ray.org_z = ray.origin.z;
-                    rh.ray.dir_x = ray.direction.x;
-                    rh.ray.dir_y = ray.direction.y;
-                    rh.ray.dir_z = ray.direction.z;
-                    rh.ray.tnear = ray.lambdaMin;
-                    rh.ray.tfar = ray.lambdaMax;
-                    rh.ray.time = ray.time;
-                    rh.ray.mask = ~0u;
-                    rh.ray.flags = 0;
-                    rh.ray.id = 0;
-                    rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
-                    rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
-                    rtcIntersect1(scene, &context, &rh);
-                    hits += rh.hit.geomID != RTC_INVALID_GEOMETRY_ID;
-                }
+    for (int y = y0; y < y1; ++y) {
+        for (int x = 0; x < f.scene.film.width; ++x) {
+            const Sample* pixel = f.table->pixel(x, y);
+            const Vec2* disk = f.table->disk(x, y);
+            for (int s = 0; s < f.scene.film.samplesPerPixel; ++s) {
+                const Vec2 raster = Vec2(float(x), float(y)) + pixel[s].pixelOffset;
+                const Ray ray = makeCameraRay(camera, rasterToScreen(camera, raster), disk[s],
+                                              pixel[s].time, f.lens);
+                RTCRayHit rh;
+                rh.ray.org_x = ray.origin.x;
+                rh.ray.org_y = ray.origin.y;
+                rh.ray.org_z = ray.origin.z;
+                rh.ray.dir_x = ray.direction.x;
+                rh.ray.dir_y = ray.direction.y;
+                rh.ray.dir_z = ray.direction.z;
+                rh.ray.tnear = ray.lambdaMin;
+                rh.ray.tfar = ray.lambdaMax;
+                rh.ray.time = ray.time;
+                rh.ray.mask = ~0u;
+                rh.ray.flags = 0;
+                rh.ray.id = 0;
+                rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+                rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+                rtcIntersect1(scene, &context, &rh);
+                hits += rh.hit.geomID != RTC_INVALID_GEOMETRY_ID;
             }
         }
     }
-    state.counters["samples/s"] =
-        benchmark::Counter(double(f.sampleCount()), benchmark::Counter::kIsIterationInvariantRate);
-    state.counters["covered samples"] = double(hits);
-    state.counters["triangles"] = double(triangleCount(f));
+    return hits;
+}
+
+void embree(benchmark::State& state, int sceneIndex, int blur, bool lens, int threads) {
+    const Frame& f = frame(sceneIndex, blur, lens);
+    const std::string config = "threads=" + std::to_string(threads);
+    RTCDevice device = rtcNewDevice(config.c_str());
+    RTCScene scene = buildEmbreeScene(device, f);
+    // Rows in bands of 8 taken by the next free worker, like the patch rasterizer's tiles.
+    constexpr int kBand = 8;
+    const int bands = (f.scene.film.height + kBand - 1) / kBand;
+    std::vector<std::int64_t> bandHits(static_cast<std::size_t>(bands), 0);
+    std::int64_t hits = 0;
+    for (auto _ : state) {
+        parallelFor(std::size_t(bands), threads, [&](int, std::size_t b) {
+            const int y0 = int(b) * kBand;
+            bandHits[b] = traceRows(scene, f, y0, std::min(y0 + kBand, f.scene.film.height));
+        });
+        hits = 0;
+        for (std::int64_t h : bandHits) hits += h;
+    }
+    reportCommon(state, f, hits);
     rtcReleaseScene(scene);
     rtcReleaseDevice(device);
 }
-BENCHMARK(embree)->DenseRange(0, 2)->Unit(benchmark::kMillisecond);
+
+// Frame by frame, each method on 1 and 2 threads: patchRasterizer/<scene>/<blur>/<lens>/<threads>.
+int registerAll() {
+    for (int scene = 0; scene < 3; ++scene)
+        for (int blur = 0; blur < 3; ++blur)
+            for (bool lens : {false, true})
+                for (int threads : {1, 2}) {
+                    const std::string suffix = std::string("/") + kSceneNames[scene] + "/" +
+                                               kBlurNames[blur] + (lens ? "/lens" : "/pinhole") +
+                                               "/threads:" + std::to_string(threads);
+                    benchmark::RegisterBenchmark(("patchRasterizer" + suffix).c_str(),
+                                                 patchRasterizer, scene, blur, lens, threads)
+                        ->Unit(benchmark::kMillisecond)
+                        ->UseRealTime();
+                    benchmark::RegisterBenchmark(("embree" + suffix).c_str(), embree, scene, blur,
+                                                 lens, threads)
+                        ->Unit(benchmark::kMillisecond)
+                        ->UseRealTime();
+                }
+    return 0;
+}
+const int registered = registerAll();
 
 }  // namespace

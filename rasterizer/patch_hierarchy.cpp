@@ -1,20 +1,31 @@
 #include "rasterizer/patch_hierarchy.h"
 
 #include <algorithm>
+#include <bit>
 
 namespace patchsim {
 
 namespace {
 
+// A float's bits as an unsigned integer in the same order (negative values reversed below the
+// positive ones), so keys compare as integers.
+std::uint32_t orderedBits(float f) {
+    const std::uint32_t bits = std::bit_cast<std::uint32_t>(f);
+    return bits & 0x80000000u ? ~bits : bits | 0x80000000u;
+}
+
 // A triangle with its domain centroid, the key the implicit-grid split orders by.
 struct Keyed {
-    Vec2 centroid;
+    std::uint32_t centroid[2];  // orderedBits of u and v
     std::uint32_t triangle;
+    // Centroid along `axis`, ties by index.
+    std::uint64_t key(int axis) const { return std::uint64_t(centroid[axis]) << 32 | triangle; }
 };
 
 Keyed keyed(const MovingMesh& mesh, std::uint32_t triangle) {
     const std::uint32_t* v = &mesh.indices[3 * std::size_t(triangle)];
-    return {(mesh.domain[v[0]] + mesh.domain[v[1]] + mesh.domain[v[2]]) / 3.0f, triangle};
+    const Vec2 c = (mesh.domain[v[0]] + mesh.domain[v[1]] + mesh.domain[v[2]]) / 3.0f;
+    return {{orderedBits(c.x), orderedBits(c.y)}, triangle};
 }
 
 // Splits [begin, end) at its middle by centroid u (even level) or v (odd level), ties by index,
@@ -24,10 +35,8 @@ void orderRange(Keyed* begin, Keyed* end, int level, int levels) {
     if (levels == 0 || end - begin <= 1) return;
     const int axis = level & 1;
     Keyed* mid = begin + (end - begin + 1) / 2;
-    std::nth_element(begin, mid, end, [axis](const Keyed& a, const Keyed& b) {
-        const float ka = a.centroid[axis], kb = b.centroid[axis];
-        return ka < kb || (ka == kb && a.triangle < b.triangle);
-    });
+    std::nth_element(begin, mid, end,
+                     [axis](const Keyed& a, const Keyed& b) { return a.key(axis) < b.key(axis); });
     orderRange(begin, mid, level + 1, levels - 1);
     orderRange(mid, end, level + 1, levels - 1);
 }

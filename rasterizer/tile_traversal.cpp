@@ -279,27 +279,31 @@ struct CameraSpaceLanes {
         return timesAfter(box, m, times, work);
     }
 
-    // Both tests on one measurement (time refinement at every level).
+    // Time refinement at every level: the interval test alone decides (a box outside a side at
+    // both ends has no interval there), and counts; whether the box was outside in space as well
+    // is read from the same measurement, uncounted, to tell why a tile was rejected.
     bool refine(int node, TimeRange& times, bool& spatial, RasterWork& work) const {
         const LBBox& box = h.node(node);
         spatial = false;
         if (box.empty()) return false;
         Measure m;
         measure(box, true, m);
-        spatial = overlapsAfter(box, m, true, work);
-        return spatial && timesAfter(box, m, times, work);
+        RasterWork uncounted;
+        spatial = overlapsAfter(box, m, true, uncounted);
+        return timesAfter(box, m, times, work);
     }
 };
 
-// Time refinement at every level with a test's two node tests: first the spatial one, then the
-// times (those of the parent, narrowed).
+// Time refinement at every level with a test's node tests: the times (those of the parent,
+// narrowed) decide and count; the spatial test only says whether a rejection was in space.
 template <typename Test>
 bool refineNode(const Test& test, int node, TimeRange& times, bool& spatial, RasterWork& work) {
     if constexpr (requires { test.refine(node, times, spatial, work); }) {
         return test.refine(node, times, spatial, work);
     } else {
-        spatial = test.overlaps(node, true, work);
-        return spatial && test.leafTimes(node, times, work);
+        RasterWork uncounted;
+        spatial = test.overlaps(node, true, uncounted);
+        return test.leafTimes(node, times, work);
     }
 }
 

@@ -27,7 +27,7 @@ bool parseBoundsSpace(const std::string& name, BoundsSpace& out);
 
 struct RasterizerOptions {
     int tileSize = 8;     // pixels per tile side
-    int leafSize = 4;     // triangles per leaf
+    int leafSize = 8;     // triangles per leaf
     int boundsLevel = 0;  // tree level whose boxes give the screen bounds
     BranchMethod branchMethod = BranchMethod::Bitmask;
     BoundsSpace boundsSpace = BoundsSpace::Camera3D;
