@@ -37,6 +37,20 @@ HWY_INLINE std::uint16_t bitsOf(DF d, MF m) {
     return std::uint16_t(bytes[0] | bytes[1] << 8);
 }
 
+// A vector of rays by their sample indices. Compaction keeps indices ascending, and in a coherent
+// tile most vectors are consecutive samples: those load their data in one go instead of a gather.
+struct Indices {
+    VI index;
+    std::int32_t first;
+    bool contiguous;
+};
+
+// The lanes' values of a per-sample array.
+template <class D, typename T>
+HWY_INLINE hn::Vec<D> fetch(D d, const T* array, const Indices& at) {
+    return at.contiguous ? hn::LoadU(d, array + at.first) : hn::GatherIndex(d, array, at.index);
+}
+
 // lanes[axis] for a per-lane axis index (0, 1 or 2).
 HWY_INLINE VF axisOf(DI di, VI axis, VF x, VF y, VF z) {
     const DF d;
@@ -154,9 +168,11 @@ class Pass {
     }
 
     // A vector of lanes of list entries [i, i + lanes), the tail masked off.
-    VI indicesAt(const std::int32_t* list, int i, int n, MF& valid) const {
+    Indices indicesAt(const std::int32_t* list, int i, int n, MF& valid) const {
+        const bool full = n - i >= lanes_;
         valid = hn::FirstN(d_, std::size_t(std::min(lanes_, n - i)));
-        return hn::IfThenElseZero(hn::RebindMask(di_, valid), hn::LoadU(di_, list + i));
+        return {hn::IfThenElseZero(hn::RebindMask(di_, valid), hn::LoadU(di_, list + i)), list[i],
+                full && list[i + lanes_ - 1] - list[i] == lanes_ - 1};
     }
 
     void addWork(SampleWork what, VI index, MF m, std::uint32_t amount) {
@@ -190,10 +206,9 @@ class Pass {
                       hn::Load(d, r.slabC[0] + at), hn::Load(d, r.slabC[1] + at),
                       hn::Load(d, r.rayEnd + at));
         }
-        static SlabLanes gathered(DF d, const TileRays& r, VF t, VI index) {
-            return of(d, r, t, hn::GatherIndex(d, r.inverseX, index),
-                      hn::GatherIndex(d, r.inverseY, index), hn::GatherIndex(d, r.slabC[0], index),
-                      hn::GatherIndex(d, r.slabC[1], index), hn::GatherIndex(d, r.rayEnd, index));
+        static SlabLanes fetched(DF d, const TileRays& r, VF t, const Indices& at) {
+            return of(d, r, t, fetch(d, r.inverseX, at), fetch(d, r.inverseY, at),
+                      fetch(d, r.slabC[0], at), fetch(d, r.slabC[1], at), fetch(d, r.rayEnd, at));
         }
     };
 
@@ -229,10 +244,10 @@ class Pass {
     void filter(const std::int32_t* in, int n, ChildTest* children, int count) {
         for (int i = 0; i < n; i += lanes_) {
             MF valid;
-            const VI index = indicesAt(in, i, n, valid);
-            const VF t = hn::GatherIndex(d_, rays_.time, index);
-            const SlabLanes s = SlabLanes::gathered(d_, rays_, t, index);
-            for (int c = 0; c < count; ++c) testChild(children[c], index, valid, t, s);
+            const Indices at = indicesAt(in, i, n, valid);
+            const VF t = fetch(d_, rays_.time, at);
+            const SlabLanes s = SlabLanes::fetched(d_, rays_, t, at);
+            for (int c = 0; c < count; ++c) testChild(children[c], at.index, valid, t, s);
         }
     }
 
@@ -299,26 +314,27 @@ class Pass {
             if (tests[c].count > 0) descend(nodes[c], tests[c].out, tests[c].count, level + 1);
     }
 
-    LaneRays gatherRays(VI index) const {
+    LaneRays fetchRays(const Indices& at) const {
         LaneRays r;
-        r.time = hn::GatherIndex(d_, rays_.time, index);
-        r.weight0 = hn::GatherIndex(d_, rays_.weight0, index);
-        r.originX = hn::GatherIndex(d_, rays_.originX, index);
-        r.originY = hn::GatherIndex(d_, rays_.originY, index);
-        r.shearX = hn::GatherIndex(d_, rays_.shearX, index);
-        r.shearY = hn::GatherIndex(d_, rays_.shearY, index);
+        r.time = fetch(d_, rays_.time, at);
+        r.weight0 = fetch(d_, rays_.weight0, at);
+        r.originX = fetch(d_, rays_.originX, at);
+        r.originY = fetch(d_, rays_.originY, at);
+        r.shearX = fetch(d_, rays_.shearX, at);
+        r.shearY = fetch(d_, rays_.shearY, at);
         // Along z, sz = 1 / dz, the same for every camera ray.
-        r.shearZ = rays_.allShearAlongZ() ? hn::Set(d_, rays_.shearAlongZ())
-                                          : hn::GatherIndex(d_, rays_.shearZ, index);
-        r.end = hn::GatherIndex(d_, rays_.rayEnd, index);
+        r.shearZ =
+            rays_.allShearAlongZ() ? hn::Set(d_, rays_.shearAlongZ()) : fetch(d_, rays_.shearZ, at);
+        r.end = fetch(d_, rays_.rayEnd, at);
         r.alongZ = rays_.allShearAlongZ();
         if (!r.alongZ) {
-            r.axisX = hn::GatherIndex(di_, rays_.axisX, index);
-            r.axisY = hn::GatherIndex(di_, rays_.axisY, index);
-            r.axisZ = hn::GatherIndex(di_, rays_.axisZ, index);
+            r.axisX = fetch(di_, rays_.axisX, at);
+            r.axisY = fetch(di_, rays_.axisY, at);
+            r.axisZ = fetch(di_, rays_.axisZ, at);
         }
         return r;
     }
+
     // A vertex blended to each lane's time and moved to the ray origin, as `a - r.origin` with
     // `a = lerp(p0, p1, t)` in watertight_triangle.h (the origin's z is 0, so z stays).
     void relative(const LaneRays& r, const Vec3& p0, const Vec3& p1, VF& x, VF& y, VF& z) const {
@@ -411,14 +427,14 @@ class Pass {
         if (count == 0) return;
         for (int i = 0; i < n; i += lanes_) {
             MF active;
-            const VI index = indicesAt(in, i, n, active);
+            const Indices at = indicesAt(in, i, n, active);
             triangleTests_ += std::int64_t(hn::CountTrue(d_, active) * count);
-            if (kCount) addWork(SampleWork::TriangleTests, index, active, std::uint32_t(count));
-            LaneRays r = gatherRays(index);
+            if (kCount) addWork(SampleWork::TriangleTests, at.index, active, std::uint32_t(count));
+            LaneRays r = fetchRays(at);
             if (kEveryHit)
-                offerEveryHit(r, triangles, count, active, index);
+                offerEveryHit(r, triangles, count, active, at.index);
             else
-                keepNearest(r, triangles, count, active, index);
+                keepNearest(r, triangles, count, active, at);
         }
     }
 
@@ -451,7 +467,8 @@ class Pass {
     // The leaf's nearest hit per ray first (most vectors have none), then against the sample's
     // nearest so far: the same minimum in (depth, patch, triangle) order either way.
     void keepNearest(LaneRays& r, const std::uint32_t* triangles, std::size_t count, MF active,
-                     VI index) {
+                     const Indices& at) {
+        const VI index = at.index;
         const VF perLambda = hn::Set(d_, rays_.depthPerLambda());
         const VF widen = hn::Set(d_, 1.0f + kDepthTieWidening);
         Candidate leafBest{hn::Set(d_, std::numeric_limits<float>::infinity()), hn::Set(di_, -1),
@@ -472,11 +489,9 @@ class Pass {
             found = hn::Or(found, take);
         }
         if (hn::AllFalse(d_, found)) return;
-        Candidate best{hn::GatherIndex(d_, rays_.bestDepth, index),
-                       hn::GatherIndex(di_, rays_.bestPatch, index),
-                       hn::GatherIndex(du_, rays_.bestTriangle, index),
-                       hn::GatherIndex(d_, rays_.bestB1, index),
-                       hn::GatherIndex(d_, rays_.bestB2, index)};
+        Candidate best{fetch(d_, rays_.bestDepth, at), fetch(di_, rays_.bestPatch, at),
+                       fetch(du_, rays_.bestTriangle, at), fetch(d_, rays_.bestB1, at),
+                       fetch(d_, rays_.bestB2, at)};
         const MF improved = hn::And(found, nearerThan(leafBest, best));
         best = select(improved, leafBest, best);
         const VF depth = best.depth, b1 = best.b1, b2 = best.b2;

@@ -108,6 +108,22 @@ void TileRays::pixelSamples(int k, const Sample*& samples, const Vec2*& disk) {
                          generatedDisk, samples, disk);
 }
 
+// Sample i of the order is sample j of the pixel at (x, y).
+void TileRays::place(int i, int x, int y, int j, const Sample& smp, Vec2 disk) {
+    const int spp = frame_.samplesPerPixel;
+    const auto width = std::size_t(frame_.camera->width());
+    const Vec2 raster = Vec2(float(x), float(y)) + smp.pixelOffset;
+    time[i] = smp.time;
+    directionX[i] = raster.x;
+    directionY[i] = raster.y;
+    originX[i] = disk.x;
+    originY[i] = disk.y;
+    record[i] = std::uint32_t((std::size_t(y) * width + std::size_t(x)) * std::size_t(spp) +
+                              std::size_t(j));
+    lensU[i] = smp.lens.x;
+    lensV[i] = smp.lens.y;
+}
+
 // A stable counting sort of the tile's samples by time bucket (within a bucket the Morton pixel
 // order stays), into the arrays the vector setup reads: time, raster position, lens point,
 // record, lens sample.
@@ -115,9 +131,19 @@ void TileRays::orderByBucket(const TileRect& rect) {
     const int spp = frame_.samplesPerPixel;
     const int pixels = pixelCount(rect);
     count_ = pixels * spp;
-    std::fill(bucketBegin_.begin(), bucketBegin_.end(), 0);
     const Sample* samples;
     const Vec2* disk;
+    if (buckets_ == 1) {  // the pixel order is the order
+        bucketBegin_ = {0, count_};
+        for (int k = 0; k < pixels; ++k) {
+            pixelSamples(k, samples, disk);
+            for (int j = 0; j < spp; ++j)
+                place(k * spp + j, pixels_[std::size_t(k)][0], pixels_[std::size_t(k)][1], j,
+                      samples[j], disk[j]);
+        }
+        return;
+    }
+    std::fill(bucketBegin_.begin(), bucketBegin_.end(), 0);
     for (int k = 0; k < pixels; ++k) {
         pixelSamples(k, samples, disk);
         for (int j = 0; j < spp; ++j) {
@@ -128,32 +154,18 @@ void TileRays::orderByBucket(const TileRect& rect) {
     }
     for (int b = 0; b < buckets_; ++b)
         bucketBegin_[std::size_t(b) + 1] += bucketBegin_[std::size_t(b)];
-    const auto width = std::size_t(frame_.camera->width());
     std::vector<int>& next = bucketBegin_;  // advanced while filling, then restored
     for (int k = 0; k < pixels; ++k) {
         // The table's samples are read in place; the generator's are still in generated_.
-        if (frame_.samples.table)
+        if (frame_.samples.table) {
             pixelSamples(k, samples, disk);
-        else {
+        } else {
             samples = &generated_[std::size_t(k * spp)];
             disk = &generatedDisk_[std::size_t(k * spp)];
         }
-        const int x = pixels_[std::size_t(k)][0], y = pixels_[std::size_t(k)][1];
-        const std::size_t firstRecord =
-            (std::size_t(y) * width + std::size_t(x)) * std::size_t(spp);
-        for (int j = 0; j < spp; ++j) {
-            const Sample& smp = samples[j];
-            const int i = next[bucket_[std::size_t(k * spp + j)]]++;
-            const Vec2 raster = Vec2(float(x), float(y)) + smp.pixelOffset;
-            time[i] = smp.time;
-            directionX[i] = raster.x;
-            directionY[i] = raster.y;
-            originX[i] = disk[j].x;
-            originY[i] = disk[j].y;
-            record[i] = std::uint32_t(firstRecord + std::size_t(j));
-            lensU[i] = smp.lens.x;
-            lensV[i] = smp.lens.y;
-        }
+        for (int j = 0; j < spp; ++j)
+            place(next[bucket_[std::size_t(k * spp + j)]]++, pixels_[std::size_t(k)][0],
+                  pixels_[std::size_t(k)][1], j, samples[j], disk[j]);
     }
     for (int b = buckets_; b > 0; --b) next[std::size_t(b)] = next[std::size_t(b) - 1];
     next[0] = 0;

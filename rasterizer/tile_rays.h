@@ -162,6 +162,7 @@ class TileRays {
     int pixelCount(const TileRect& rect);
     void pixelSamples(int k, const Sample*& samples, const Vec2*& disk);
     void orderByBucket(const TileRect& rect);
+    void place(int i, int x, int y, int j, const Sample& sample, Vec2 disk);
     void startHits(const VisibilityBuffer& buffer);
     void setFlags();
 

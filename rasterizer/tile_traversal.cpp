@@ -334,7 +334,7 @@ struct ScreenTest {
 };
 
 template <typename Test>
-TileTraversal walk(const PatchHierarchy& h, Test test, bool motion, TimeRefinement refinement,
+TileTraversal walk(const PatchHierarchy& h, Test&& test, bool motion, TimeRefinement refinement,
                    RasterWork& work) {
     const bool atLeaves = motion && refinement != TimeRefinement::Off;
     const bool everyLevel = motion && refinement == TimeRefinement::EveryLevel;
