@@ -338,6 +338,12 @@ class Pass {
     // A vertex blended to each lane's time and moved to the ray origin, as `a - r.origin` with
     // `a = lerp(p0, p1, t)` in watertight_triangle.h (the origin's z is 0, so z stays).
     void relative(const LaneRays& r, const Vec3& p0, const Vec3& p1, VF& x, VF& y, VF& z) const {
+        if (rays_.allAtShutterOpen()) {  // (1 - 0) p0 + 0 p1 is p0, to the bit
+            x = hn::Sub(hn::Set(d_, p0.x), r.originX);
+            y = hn::Sub(hn::Set(d_, p0.y), r.originY);
+            z = hn::Set(d_, p0.z);
+            return;
+        }
         x = hn::Sub(
             hn::Add(hn::Mul(r.weight0, hn::Set(d_, p0.x)), hn::Mul(r.time, hn::Set(d_, p1.x))),
             r.originX);
@@ -385,20 +391,23 @@ class Pass {
         if (!hn::AllFalse(d_, onEdge)) inDouble(onEdge, ax, ay, bx, by, cx, cy, u, v, w_);
         const MF negative = hn::Or(hn::Or(hn::Lt(u, zero), hn::Lt(v, zero)), hn::Lt(w_, zero));
         const MF positive = hn::Or(hn::Or(hn::Gt(u, zero), hn::Gt(v, zero)), hn::Gt(w_, zero));
+        const MF inside = hn::AndNot(hn::And(negative, positive), active);
+        TriangleHits hits;
+        hits.hit = inside;
+        // Most rays pass outside an edge: the depth and its division only for those inside.
+        if (hn::AllFalse(d_, inside)) return hits;
         const VF det = hn::Add(hn::Add(u, v), w_);
         const VF az = hn::Mul(r.shearZ, Akz), bz = hn::Mul(r.shearZ, Bkz),
                  cz = hn::Mul(r.shearZ, Ckz);
         const VF t = hn::Add(hn::Add(hn::Mul(u, az), hn::Mul(v, bz)), hn::Mul(w_, cz));
         const VF rcp = hn::Div(hn::Set(d_, 1.0f), det);
-        TriangleHits hits;
         hits.lambda = hn::Mul(t, rcp);
         hits.b1 = hn::Mul(v, rcp);
         hits.b2 = hn::Mul(w_, rcp);
         const MF inRange = hn::And(hn::Ge(hits.lambda, hn::Set(d_, rays_.lambdaMin())),
                                    hn::Le(hits.lambda, r.end));
         const MF valid = hn::AndNot(hn::Eq(det, zero), hn::IsFinite(det));
-        hits.hit =
-            hn::And(hn::AndNot(hn::And(negative, positive), hn::And(active, valid)), inRange);
+        hits.hit = hn::And(inside, hn::And(valid, inRange));
         return hits;
     }
 

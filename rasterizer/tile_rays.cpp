@@ -193,12 +193,16 @@ void TileRays::startHits(const VisibilityBuffer& buffer) {
 }
 
 void TileRays::setFlags() {
-    allAlongZ_ = true;
-    anyParallel_ = false;
+    // Branch-free accumulations, so the loop vectorizes.
+    int offAxis = 0, parallel = 0, moving = 0;
     for (int i = 0; i < count_; ++i) {
-        allAlongZ_ = allAlongZ_ && axisX[i] == 1 && axisY[i] == 0 && axisZ[i] == 2;
-        anyParallel_ = anyParallel_ || parallelAxes[i] != 0;
+        offAxis |= (axisX[i] ^ 1) | axisY[i] | (axisZ[i] ^ 2);
+        parallel |= parallelAxes[i];
+        moving |= time[i] != 0.0f;
     }
+    allAlongZ_ = offAxis == 0;
+    anyParallel_ = parallel != 0;
+    allAtOpen_ = moving == 0;
     for (int b = 0; b < padded_ / kMaxLanes; ++b) changed[b] = 0;
 }
 

@@ -145,6 +145,9 @@ class TileRays {
     // Whether every ray shears along z (the fast path of the triangle test), and whether any
     // runs parallel to an axis (those take the scalar box test).
     bool allShearAlongZ() const { return allAlongZ_; }
+    // Whether every sample's time is 0 (nothing varies over the shutter): a vertex blended to it
+    // is its t=0 position.
+    bool allAtShutterOpen() const { return allAtOpen_; }
     bool anyParallel() const { return anyParallel_; }
     // Per batch of kMaxLanes samples: bit j, sample j of the batch got a nearer hit in this tile.
     std::uint16_t* changed;
@@ -171,7 +174,7 @@ class TileRays {
     int capacity_ = 0, count_ = 0, padded_ = 0, buckets_ = 1;
     float farthest_ = 0;
     bool farthestStale_ = true;
-    bool allAlongZ_ = true, anyParallel_ = false;
+    bool allAlongZ_ = true, anyParallel_ = false, allAtOpen_ = false;
     std::vector<int> bucketBegin_;       // buckets + 1
     std::vector<std::uint16_t> morton_;  // the tile's pixels (y * tileSize + x) in Morton order
     // The current tile's pixels (x, y) in Morton order, and each sample's bucket in that order.
