@@ -252,7 +252,7 @@ class Pass {
     }
 
     // The 12-multiply-add test of moving_box_ray.h, lane by lane, in the same operations.
-    MF hitsBox(const LBBox& box, const SlabLanes& s) const {
+    HWY_INLINE MF hitsBox(const LBBox& box, const SlabLanes& s) const {
         VF nearest = hn::Set(d_, rays_.lambdaMin());
         VF farthest = s.end;
         for (int k = 0; k < 3; ++k) {
@@ -354,7 +354,7 @@ class Pass {
     }
 
     // The watertight test of watertight_triangle.h for every lane, in the same operations.
-    TriangleHits intersect(const LaneRays& r, std::uint32_t triangle, MF active) const {
+    HWY_INLINE TriangleHits intersect(const LaneRays& r, std::uint32_t triangle, MF active) const {
         const std::uint32_t* corner = &mesh_.indices[3 * std::size_t(triangle)];
         VF A[3], B[3], C[3];
         relative(r, mesh_.position0[corner[0]], mesh_.position1[corner[0]], A[0], A[1], A[2]);
@@ -412,7 +412,8 @@ class Pass {
     }
 
     // Lanes with an edge function exactly zero: all three again in double precision.
-    void inDouble(MF lanes, VF ax, VF ay, VF bx, VF by, VF cx, VF cy, VF& u, VF& v, VF& w) const {
+    HWY_NOINLINE void inDouble(MF lanes, VF ax, VF ay, VF bx, VF by, VF cx, VF cy, VF& u, VF& v,
+                               VF& w) const {
         alignas(64) float s[9][kMaxLanes];
         const VF in[9] = {ax, ay, bx, by, cx, cy, u, v, w};
         for (int k = 0; k < 9; ++k) hn::Store(in[k], d_, s[k]);

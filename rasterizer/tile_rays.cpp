@@ -46,6 +46,8 @@ TileRays::TileRays(const TileRayFrame& frame) : frame_(frame) {
     });
     bucket_.resize(std::size_t(s * s * spp));
     pixels_.reserve(std::size_t(s * s));
+    pixelSamples_.resize(std::size_t(s * s));
+    rankOf_.resize(std::size_t(s * s));
     if (!frame.samples.table) {
         generated_.resize(bucket_.size());
         generatedDisk_.resize(bucket_.size());
@@ -95,7 +97,9 @@ int TileRays::pixelCount(const TileRect& rect) {
     pixels_.clear();
     for (std::uint16_t local : morton_) {
         const int x = rect.x0 + local % s, y = rect.y0 + local / s;
-        if (x < rect.x1 && y < rect.y1) pixels_.push_back({x, y});
+        if (x >= rect.x1 || y >= rect.y1) continue;
+        rankOf_[local] = std::uint16_t(pixels_.size());
+        pixels_.push_back({x, y});
     }
     return int(pixels_.size());
 }
@@ -108,18 +112,17 @@ void TileRays::pixelSamples(int k, const Sample*& samples, const Vec2*& disk) {
                          generatedDisk, samples, disk);
 }
 
-// Sample i of the order is sample j of the pixel at (x, y).
-void TileRays::place(int i, int x, int y, int j, const Sample& smp, Vec2 disk) {
-    const int spp = frame_.samplesPerPixel;
-    const auto width = std::size_t(frame_.camera->width());
-    const Vec2 raster = Vec2(float(x), float(y)) + smp.pixelOffset;
+// Sample i of the order is sample j of pixel k.
+void TileRays::place(int i, int k, int j) {
+    const PixelSamples& p = pixelSamples_[std::size_t(k)];
+    const Sample& smp = p.samples[j];
+    const Vec2 raster = p.corner + smp.pixelOffset;
     time[i] = smp.time;
     directionX[i] = raster.x;
     directionY[i] = raster.y;
-    originX[i] = disk.x;
-    originY[i] = disk.y;
-    record[i] = std::uint32_t((std::size_t(y) * width + std::size_t(x)) * std::size_t(spp) +
-                              std::size_t(j));
+    originX[i] = p.disk[j].x;
+    originY[i] = p.disk[j].y;
+    record[i] = p.firstRecord + std::uint32_t(j);
     lensU[i] = smp.lens.x;
     lensV[i] = smp.lens.y;
 }
@@ -131,21 +134,26 @@ void TileRays::orderByBucket(const TileRect& rect) {
     const int spp = frame_.samplesPerPixel;
     const int pixels = pixelCount(rect);
     count_ = pixels * spp;
-    const Sample* samples;
-    const Vec2* disk;
+    const auto width = std::uint32_t(frame_.camera->width());
+    // The samples are read row by row (the order they lie in memory), each pixel's kept at its
+    // Morton rank.
+    for (int y = rect.y0; y < rect.y1; ++y)
+        for (int x = rect.x0; x < rect.x1; ++x) {
+            const int k = rankOf_[std::size_t((y - rect.y0) * frame_.tileSize + (x - rect.x0))];
+            PixelSamples& p = pixelSamples_[std::size_t(k)];
+            pixelSamples(k, p.samples, p.disk);
+            p.corner = Vec2(float(x), float(y));
+            p.firstRecord = (std::uint32_t(y) * width + std::uint32_t(x)) * std::uint32_t(spp);
+        }
     if (buckets_ == 1) {  // the pixel order is the order
         bucketBegin_ = {0, count_};
-        for (int k = 0; k < pixels; ++k) {
-            pixelSamples(k, samples, disk);
-            for (int j = 0; j < spp; ++j)
-                place(k * spp + j, pixels_[std::size_t(k)][0], pixels_[std::size_t(k)][1], j,
-                      samples[j], disk[j]);
-        }
+        for (int k = 0; k < pixels; ++k)
+            for (int j = 0; j < spp; ++j) place(k * spp + j, k, j);
         return;
     }
     std::fill(bucketBegin_.begin(), bucketBegin_.end(), 0);
     for (int k = 0; k < pixels; ++k) {
-        pixelSamples(k, samples, disk);
+        const Sample* samples = pixelSamples_[std::size_t(k)].samples;
         for (int j = 0; j < spp; ++j) {
             const int b = bucketOf(samples[j].time);
             bucket_[std::size_t(k * spp + j)] = std::uint16_t(b);
@@ -155,18 +163,8 @@ void TileRays::orderByBucket(const TileRect& rect) {
     for (int b = 0; b < buckets_; ++b)
         bucketBegin_[std::size_t(b) + 1] += bucketBegin_[std::size_t(b)];
     std::vector<int>& next = bucketBegin_;  // advanced while filling, then restored
-    for (int k = 0; k < pixels; ++k) {
-        // The table's samples are read in place; the generator's are still in generated_.
-        if (frame_.samples.table) {
-            pixelSamples(k, samples, disk);
-        } else {
-            samples = &generated_[std::size_t(k * spp)];
-            disk = &generatedDisk_[std::size_t(k * spp)];
-        }
-        for (int j = 0; j < spp; ++j)
-            place(next[bucket_[std::size_t(k * spp + j)]]++, pixels_[std::size_t(k)][0],
-                  pixels_[std::size_t(k)][1], j, samples[j], disk[j]);
-    }
+    for (int k = 0; k < pixels; ++k)
+        for (int j = 0; j < spp; ++j) place(next[bucket_[std::size_t(k * spp + j)]]++, k, j);
     for (int b = buckets_; b > 0; --b) next[std::size_t(b)] = next[std::size_t(b) - 1];
     next[0] = 0;
 }
@@ -207,6 +205,16 @@ void TileRays::setFlags() {
 }
 
 void TileRays::load(const TileRect& rect, const VisibilityBuffer& buffer) {
+    // The tile's rows of samples and of visibility records are short runs far apart, which the
+    // hardware prefetcher finds too late: ask for them now (the records are written back at the
+    // end).
+    for (int y = rect.y0; y < rect.y1; ++y) {
+        frame_.samples.prefetch(rect.x0, rect.x1, y);
+        const auto* records = reinterpret_cast<const char*>(&buffer.at(rect.x0, y, 0));
+        const std::size_t bytes = std::size_t(rect.x1 - rect.x0) *
+                                  std::size_t(frame_.samplesPerPixel) * sizeof(VisibilityRecord);
+        for (std::size_t b = 0; b < bytes; b += 64) __builtin_prefetch(records + b, 1);
+    }
     orderByBucket(rect);
     padded_ = roundUpToLanes(count_);
     // Dead samples: in no time range (NaN fails every comparison), never hit, depth bound 0.

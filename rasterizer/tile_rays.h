@@ -165,7 +165,7 @@ class TileRays {
     int pixelCount(const TileRect& rect);
     void pixelSamples(int k, const Sample*& samples, const Vec2*& disk);
     void orderByBucket(const TileRect& rect);
-    void place(int i, int x, int y, int j, const Sample& sample, Vec2 disk);
+    void place(int i, int k, int j);
     void startHits(const VisibilityBuffer& buffer);
     void setFlags();
 
@@ -179,6 +179,14 @@ class TileRays {
     std::vector<std::uint16_t> morton_;  // the tile's pixels (y * tileSize + x) in Morton order
     // The current tile's pixels (x, y) in Morton order, and each sample's bucket in that order.
     std::vector<std::array<int, 2>> pixels_;
+    struct PixelSamples {
+        const Sample* samples;
+        const Vec2* disk;
+        Vec2 corner;                // the pixel's top-left corner in raster space
+        std::uint32_t firstRecord;  // its first sample's visibility-buffer index
+    };
+    std::vector<PixelSamples> pixelSamples_;  // by Morton rank
+    std::vector<std::uint16_t> rankOf_;       // a pixel's Morton rank, by y * tileSize + x
     std::vector<std::uint16_t> bucket_;
     // The generator's samples of the tile (a table's are read in place).
     std::vector<Sample> generated_;

@@ -134,6 +134,19 @@ Vec2 concentricDisk(const Vec2& u) {
     return r * Vec2(std::cos(theta), std::sin(theta));
 }
 
+void SampleSource::prefetch(int x0, int x1, int y) const {
+    if (!table || x0 >= x1) return;
+    constexpr std::size_t kLine = 64;
+    const auto spp = std::size_t(table->samplesPerPixel());
+    const auto* samples = reinterpret_cast<const char*>(table->pixel(x0, y));
+    const auto* disk = reinterpret_cast<const char*>(table->disk(x0, y));
+    const std::size_t pixels = std::size_t(x1 - x0);
+    for (std::size_t b = 0; b < pixels * spp * sizeof(Sample); b += kLine)
+        __builtin_prefetch(samples + b);
+    for (std::size_t b = 0; b < pixels * spp * sizeof(Vec2); b += kLine)
+        __builtin_prefetch(disk + b);
+}
+
 SampleTable::SampleTable(const SampleGenerator& generator, int width, int height, int threads)
     : width_(width),
       spp_(generator.samplesPerPixel()),
@@ -159,7 +172,8 @@ void SampleSource::pixel(int x, int y, Sample* samples, Vec2* disk, const Sample
         return;
     }
     generator->pixelSamples(x, y, samples);
-    for (int s = 0; s < generator->samplesPerPixel(); ++s) disk[s] = concentricDisk(samples[s].lens);
+    for (int s = 0; s < generator->samplesPerPixel(); ++s)
+        disk[s] = concentricDisk(samples[s].lens);
     pixelSamples = samples;
     pixelDisk = disk;
 }

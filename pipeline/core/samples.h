@@ -92,6 +92,9 @@ struct SampleSource {
     // generator into `samples` and `disk` (room for samplesPerPixel each).
     void pixel(int x, int y, Sample* samples, Vec2* disk, const Sample*& pixelSamples,
                const Vec2*& pixelDisk) const;
+    // Asks the cache for the table's samples of pixels [x0, x1) of row y, which are read next (a
+    // tile's rows are short runs the hardware prefetcher finds too late).
+    void prefetch(int x0, int x1, int y) const;
 };
 
 // A 64-bit mix (SplitMix64 finaliser) used for all sample hashing.
