@@ -353,35 +353,63 @@ class Pass {
         z = hn::Add(hn::Mul(r.weight0, hn::Set(d_, p0.z)), hn::Mul(r.time, hn::Set(d_, p1.z)));
     }
 
-    // The watertight test of watertight_triangle.h for every lane, in the same operations.
-    HWY_INLINE TriangleHits intersect(const LaneRays& r, std::uint32_t triangle, MF active) const {
-        const std::uint32_t* corner = &mesh_.indices[3 * std::size_t(triangle)];
-        VF A[3], B[3], C[3];
-        relative(r, mesh_.position0[corner[0]], mesh_.position1[corner[0]], A[0], A[1], A[2]);
-        relative(r, mesh_.position0[corner[1]], mesh_.position1[corner[1]], B[0], B[1], B[2]);
-        relative(r, mesh_.position0[corner[2]], mesh_.position1[corner[2]], C[0], C[1], C[2]);
-        VF Akz, Bkz, Ckz, ax, ay, bx, by, cx, cy;
-        if (r.alongZ) {
-            Akz = A[2];
-            Bkz = B[2];
-            Ckz = C[2];
-            ax = hn::Sub(A[1], hn::Mul(r.shearX, Akz));
-            ay = hn::Sub(A[0], hn::Mul(r.shearY, Akz));
-            bx = hn::Sub(B[1], hn::Mul(r.shearX, Bkz));
-            by = hn::Sub(B[0], hn::Mul(r.shearY, Bkz));
-            cx = hn::Sub(C[1], hn::Mul(r.shearX, Ckz));
-            cy = hn::Sub(C[0], hn::Mul(r.shearY, Ckz));
-        } else {
-            Akz = axisOf(di_, r.axisZ, A[0], A[1], A[2]);
-            Bkz = axisOf(di_, r.axisZ, B[0], B[1], B[2]);
-            Ckz = axisOf(di_, r.axisZ, C[0], C[1], C[2]);
-            ax = hn::Sub(axisOf(di_, r.axisX, A[0], A[1], A[2]), hn::Mul(r.shearX, Akz));
-            ay = hn::Sub(axisOf(di_, r.axisY, A[0], A[1], A[2]), hn::Mul(r.shearY, Akz));
-            bx = hn::Sub(axisOf(di_, r.axisX, B[0], B[1], B[2]), hn::Mul(r.shearX, Bkz));
-            by = hn::Sub(axisOf(di_, r.axisY, B[0], B[1], B[2]), hn::Mul(r.shearY, Bkz));
-            cx = hn::Sub(axisOf(di_, r.axisX, C[0], C[1], C[2]), hn::Mul(r.shearX, Ckz));
-            cy = hn::Sub(axisOf(di_, r.axisY, C[0], C[1], C[2]), hn::Mul(r.shearY, Ckz));
+    // A vertex blended to each lane's time, moved to the ray origin and sheared:
+    // A[kx] - sx A[kz], A[ky] - sy A[kz], sz A[kz] (watertight_triangle.h).
+    struct ShearedVertex {
+        VF x, y, z;
+    };
+
+    HWY_INLINE ShearedVertex shear(const LaneRays& r, std::uint32_t vertex) const {
+        VF A[3];
+        relative(r, mesh_.position0[vertex], mesh_.position1[vertex], A[0], A[1], A[2]);
+        if (r.alongZ)
+            return {hn::Sub(A[1], hn::Mul(r.shearX, A[2])), hn::Sub(A[0], hn::Mul(r.shearY, A[2])),
+                    hn::Mul(r.shearZ, A[2])};
+        const VF kz = axisOf(di_, r.axisZ, A[0], A[1], A[2]);
+        return {hn::Sub(axisOf(di_, r.axisX, A[0], A[1], A[2]), hn::Mul(r.shearX, kz)),
+                hn::Sub(axisOf(di_, r.axisY, A[0], A[1], A[2]), hn::Mul(r.shearY, kz)),
+                hn::Mul(r.shearZ, kz)};
+    }
+
+    // The leaf's distinct vertices (a tessellated grid's triangles share most corners), each
+    // triangle's corners as indices into them.
+    void leafVertices(const std::uint32_t* triangles, std::size_t count) {
+        vertexCount_ = 0;
+        for (std::size_t c = 0; c < 3 * count; ++c) {
+            const std::uint32_t v = mesh_.indices[3 * std::size_t(triangles[c / 3]) + c % 3];
+            int k = 0;
+            while (k < vertexCount_ && vertices_[k] != v) ++k;
+            if (k == vertexCount_) vertices_[vertexCount_++] = v;
+            corners_[c] = std::uint8_t(k);
         }
+    }
+
+    // Every distinct vertex of the leaf sheared for this vector of rays, into the scratch.
+    void shearVertices(const LaneRays& r) {
+        float* out = rays_.vertexScratch();
+        const std::size_t n = std::size_t(lanes_);
+        for (int k = 0; k < vertexCount_; ++k) {
+            const ShearedVertex v = shear(r, vertices_[k]);
+            hn::Store(v.x, d_, out + (3 * std::size_t(k)) * n);
+            hn::Store(v.y, d_, out + (3 * std::size_t(k) + 1) * n);
+            hn::Store(v.z, d_, out + (3 * std::size_t(k) + 2) * n);
+        }
+    }
+
+    ShearedVertex sheared(int k) const {
+        const float* in = rays_.vertexScratch();
+        const std::size_t n = std::size_t(lanes_);
+        return {hn::Load(d_, in + (3 * std::size_t(k)) * n),
+                hn::Load(d_, in + (3 * std::size_t(k) + 1) * n),
+                hn::Load(d_, in + (3 * std::size_t(k) + 2) * n)};
+    }
+
+    // The watertight test of watertight_triangle.h for every lane, in the same operations, on
+    // the leaf's triangle `k` (its vertices sheared by shearVertices).
+    HWY_INLINE TriangleHits intersect(const LaneRays& r, std::size_t k, MF active) const {
+        const ShearedVertex a = sheared(corners_[3 * k]), b = sheared(corners_[3 * k + 1]),
+                            c = sheared(corners_[3 * k + 2]);
+        const VF ax = a.x, ay = a.y, bx = b.x, by = b.y, cx = c.x, cy = c.y;
         VF u = hn::Sub(hn::Mul(cx, by), hn::Mul(cy, bx));
         VF w_ = hn::Sub(hn::Mul(bx, ay), hn::Mul(by, ax));
         VF v = hn::Sub(hn::Mul(ax, cy), hn::Mul(ay, cx));
@@ -397,9 +425,7 @@ class Pass {
         // Most rays pass outside an edge: the depth and its division only for those inside.
         if (hn::AllFalse(d_, inside)) return hits;
         const VF det = hn::Add(hn::Add(u, v), w_);
-        const VF az = hn::Mul(r.shearZ, Akz), bz = hn::Mul(r.shearZ, Bkz),
-                 cz = hn::Mul(r.shearZ, Ckz);
-        const VF t = hn::Add(hn::Add(hn::Mul(u, az), hn::Mul(v, bz)), hn::Mul(w_, cz));
+        const VF t = hn::Add(hn::Add(hn::Mul(u, a.z), hn::Mul(v, b.z)), hn::Mul(w_, c.z));
         const VF rcp = hn::Div(hn::Set(d_, 1.0f), det);
         hits.lambda = hn::Mul(t, rcp);
         hits.b1 = hn::Mul(v, rcp);
@@ -435,12 +461,14 @@ class Pass {
         const std::uint32_t* triangles =
             h_.leafTriangles(node - PatchHierarchy::firstLeaf(h_.depth()), count);
         if (count == 0) return;
+        leafVertices(triangles, count);
         for (int i = 0; i < n; i += lanes_) {
             MF active;
             const Indices at = indicesAt(in, i, n, active);
             triangleTests_ += std::int64_t(hn::CountTrue(d_, active) * count);
             if (kCount) addWork(SampleWork::TriangleTests, at.index, active, std::uint32_t(count));
             LaneRays r = fetchRays(at);
+            shearVertices(r);
             if (kEveryHit)
                 offerEveryHit(r, triangles, count, active, at.index);
             else
@@ -486,7 +514,7 @@ class Pass {
         MF found = hn::FirstN(d_, 0);
         for (std::size_t k = 0; k < count; ++k) {
             const std::uint32_t tri = triangles[k];
-            const TriangleHits hits = intersect(r, tri, active);
+            const TriangleHits hits = intersect(r, k, active);
             if (hn::AllFalse(d_, hits.hit)) continue;
             const Candidate hit{hn::Mul(hits.lambda, perLambda),
                                 hn::Set(di_, std::int32_t(mesh_.patchOf(tri))),
@@ -538,7 +566,7 @@ class Pass {
         hn::Store(index, di_, lanes);
         for (std::size_t k = 0; k < count; ++k) {
             const std::uint32_t tri = triangles[k];
-            const TriangleHits hits = intersect(r, tri, active);
+            const TriangleHits hits = intersect(r, k, active);
             if (hn::AllFalse(d_, hits.hit)) continue;
             hn::Store(hits.lambda, d_, lambda);
             hn::Store(hits.b1, d_, b1);
@@ -592,6 +620,10 @@ class Pass {
     RasterWork& work_;
     const int lanes_;
     std::int64_t boxTests_ = 0, triangleTests_ = 0;
+    // The current leaf's distinct vertices and its triangles' corners among them.
+    std::uint32_t vertices_[3 * kMaxLeafTriangles];
+    std::uint8_t corners_[3 * kMaxLeafTriangles];
+    int vertexCount_ = 0;
     TimeRange times_[2 * kMaxLeavesPerHierarchy - 1];
 };
 

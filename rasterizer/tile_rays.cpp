@@ -81,6 +81,7 @@ TileRays::TileRays(const TileRayFrame& frame) : frame_(frame) {
     improved_ = hwy::AllocateAligned<std::uint16_t>(batches);
     listStride_ = n + kMaxLanes;
     lists_ = hwy::AllocateAligned<std::int32_t>(listStride_ * std::size_t(2 * kMaxStreamLevels));
+    vertices_ = hwy::AllocateAligned<float>(std::size_t(3 * 3 * kMaxLeafTriangles * kMaxLanes));
 }
 
 void TileRays::indexRange(TimeRange times, int& first, int& last) const {

@@ -48,6 +48,8 @@ class PixelCounters;
 // The widest vector the ray kernels use (16 floats: AVX-512); narrower targets split a batch.
 inline constexpr int kMaxLanes = 16;
 inline constexpr int kMaxTimeBuckets = 256;
+// The most triangles a leaf holds (rasterizer.leaf_size's limit).
+inline constexpr int kMaxLeafTriangles = 64;
 
 // What every tile of a frame shares.
 struct TileRayFrame {
@@ -159,6 +161,8 @@ class TileRays {
         return lists_.get() + std::size_t(2 * level + child) * listStride_;
     }
     std::uint16_t* passImproved() { return improved_.get(); }
+    // A leaf's distinct vertices sheared for a vector of rays: 3 x kMaxLanes floats each.
+    float* vertexScratch() { return vertices_.get(); }
 
   private:
     // The tile's pixels in Morton order, and the samples of the k-th.
@@ -196,6 +200,7 @@ class TileRays {
     hwy::AlignedFreeUniquePtr<std::uint32_t[]> counts_;
     hwy::AlignedFreeUniquePtr<std::uint16_t[]> changed_, improved_;
     hwy::AlignedFreeUniquePtr<std::int32_t[]> lists_;
+    hwy::AlignedFreeUniquePtr<float[]> vertices_;
     std::size_t listStride_ = 0;
 };
 
