@@ -143,13 +143,48 @@ Image filterSamples(const std::vector<float>& colors, const VisibilityBuffer& la
     return image;
 }
 
+namespace {
+
+// The box filter fused with shading: each pixel's samples shaded and averaged in one pass, with
+// filterSamples's arithmetic, and no per-sample colour buffer.
+Image shadeAndAverage(const ShadingContext& c, const VisibilityBuffer& opaque,
+                      const TransparentLayers* transparent, ShadingRate rate, int threads,
+                      Progress* progress) {
+    const int spp = opaque.samplesPerPixel();
+    Image image(opaque.width(), opaque.height());
+    parallelFor(std::size_t(opaque.height()), threads, [&](int, std::size_t row) {
+        PixelShadeCache cache;
+        const int y = int(row);
+        for (int x = 0; x < opaque.width(); ++x) {
+            cache.entries.clear();
+            Vec3 sum(0);
+            float weights = 0;
+            for (int s = 0; s < spp; ++s) {
+                const float weight = 1.0f;
+                sum += weight * shadeSample(c, opaque, transparent, x, y, s, rate, cache);
+                weights += weight;
+            }
+            image.set(x, y, weights > 0 ? sum / weights : Vec3(0));
+        }
+        omSamplesResolved += std::int64_t(opaque.width()) * spp;
+        if (progress) progress->advance();
+    });
+    return image;
+}
+
+}  // namespace
+
 ResolvedFrame resolveFrame(const ShadingContext& c, const VisibilityBuffer& opaque,
                            const TransparentLayers* transparent, const SampleGenerator& samples,
                            const ResolveOptions& options, int threads, Progress* progress) {
     ResolvedFrame frame;
-    frame.color =
-        filterSamples(shadeSamples(c, opaque, transparent, options.shadingRate, threads, progress),
-                      opaque, samples, options, threads);
+    if (options.filter == ResolveFilter::Box)
+        frame.color =
+            shadeAndAverage(c, opaque, transparent, options.shadingRate, threads, progress);
+    else
+        frame.color = filterSamples(
+            shadeSamples(c, opaque, transparent, options.shadingRate, threads, progress), opaque,
+            samples, options, threads);
     const std::size_t pixels = std::size_t(opaque.width()) * std::size_t(opaque.height());
     frame.depth.assign(pixels, 0.0f);
     frame.coverage.assign(pixels, 0.0f);
