@@ -3,31 +3,16 @@
 #include <algorithm>
 #include <new>
 
-#ifdef __linux__
-#include <sys/mman.h>
-#endif
-
 #include "pipeline/core/parallel.h"
 
 namespace patchsim {
 
-namespace {
-
-constexpr std::size_t kHugePage = std::size_t(2) << 20;
-
-}  // namespace
-
-// Uninitialised storage (the constructor's workers construct every record), on huge pages where
-// the system gives them on request: a frame's records are tens of megabytes, and faulting them
-// in 4 KiB at a time is a cost of its own.
+// Uninitialised storage: the constructor's workers construct every record, so the first touch of
+// a frame's worth of memory is spread over them.
 VisibilityRecord* VisibilityBuffer::allocate(std::size_t records) {
     const std::size_t bytes =
         std::max<std::size_t>(records * sizeof(VisibilityRecord), sizeof(VisibilityRecord));
-    void* p = ::operator new[](bytes, std::align_val_t(kHugePage));
-#ifdef __linux__
-    if (bytes >= kHugePage) madvise(p, bytes / kHugePage * kHugePage, MADV_HUGEPAGE);
-#endif
-    return static_cast<VisibilityRecord*>(p);
+    return static_cast<VisibilityRecord*>(::operator new[](bytes));
 }
 
 VisibilityBuffer::VisibilityBuffer(int width, int height, int spp, float farDepth, int threads)

@@ -68,9 +68,7 @@ class VisibilityBuffer {
     // Records live in raw storage the constructor's workers construct them in.
     static VisibilityRecord* allocate(std::size_t records);
     struct Release {
-        void operator()(VisibilityRecord* p) const {
-            ::operator delete[](p, std::align_val_t(std::size_t(2) << 20));
-        }
+        void operator()(VisibilityRecord* p) const { ::operator delete[](p); }
     };
     int width_, height_, spp_;
     float far_;
