@@ -75,7 +75,7 @@ struct TriangleHits {
 //
 // The rays at each level of the descent are a list of sample indices (TileRays::levelList), packed
 // by vector compression, so every vector of rays tested against a box is full however few rays
-// reach that box; the rays' data is gathered by index.
+// reach that box; the rays' data is loaded where the indices are consecutive, else gathered.
 template <bool kEveryHit, bool kCount>
 class Pass {
   public:
@@ -122,9 +122,9 @@ class Pass {
         }
     }
 
-    // The rays of a segment are its samples (indices [first, last)) whose time is in `hull`,
-    // each ending at its depth bound; those that meet the start node's box go to the level-1
-    // list. Returns its length; `tested` gets the rays.
+    // The pass's rays are the samples [first, last) whose time is in `hull`, each ending at its
+    // depth bound; those that meet the start node's box go to the level-1 list. Returns its
+    // length; `tested` gets the rays.
     int startRays(TimeRange hull, int first, int last, int start, std::int64_t& tested) {
         const VF lower = hn::Set(d_, hull.lower), upper = hn::Set(d_, hull.upper);
         const VF far = hn::Set(d_, rays_.farDepth());

@@ -262,6 +262,19 @@ TEST(Cli, RenderRejectsBadRasterizerOptions) {
     EXPECT_NE(r.output.find("raster.json: rasterizer.max_triangles_per_group"), std::string::npos)
         << r.output;
     EXPECT_FALSE(fs::exists(dir + "/image.png"));
+    // A tile holding more samples than a worker keeps: one error, no output.
+    const std::string bigTiles =
+        writeFile("big_tiles.json", R"({"film": {"width": 64, "height": 48, "spp": 64},
+        "rasterizer": {"tile_size": 256},
+        "objects": [{"cage": ")" + sourcePath("scenes/cages/catmark_torus.obj") +
+                                        R"("}]})");
+    r = run("render -q " + bigTiles + " -o " + dir);
+    EXPECT_EQ(r.exitCode, 2);
+    EXPECT_NE(r.output.find("big_tiles.json: rasterizer.tile_size: a tile of 256x256 pixels at 64 "
+                            "spp holds 4194304 samples"),
+              std::string::npos)
+        << r.output;
+    EXPECT_FALSE(fs::exists(dir + "/image.png"));
 }
 
 TEST(Cli, VerifyTilesReportsEveryVariantWithoutFalseRejects) {

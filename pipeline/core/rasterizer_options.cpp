@@ -49,6 +49,18 @@ void RasterizerOptions::validate(const std::string& source) const {
                              std::to_string(kMaxLeavesPerHierarchy * leafSize) + ")");
 }
 
+void RasterizerOptions::validateTileSamples(int samplesPerPixel, const std::string& source) const {
+    const std::int64_t samples =
+        std::int64_t(tileSize) * std::int64_t(tileSize) * std::int64_t(samplesPerPixel);
+    if (samples <= kMaxTileSamples) return;
+    throw InputError(source, "rasterizer.tile_size",
+                     "a tile of " + std::to_string(tileSize) + "x" + std::to_string(tileSize) +
+                         " pixels at " + std::to_string(samplesPerPixel) + " spp holds " +
+                         std::to_string(samples) + " samples; the rasterizer keeps at most " +
+                         std::to_string(kMaxTileSamples) +
+                         " per tile in each worker's memory: use smaller tiles");
+}
+
 namespace {
 
 std::string describe(const Json& j) {

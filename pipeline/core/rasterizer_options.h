@@ -27,7 +27,7 @@ bool parseBoundsSpace(const std::string& name, BoundsSpace& out);
 
 struct RasterizerOptions {
     int tileSize = 8;     // pixels per tile side
-    int leafSize = 8;     // triangles per leaf
+    int leafSize = 4;     // triangles per leaf
     int boundsLevel = 0;  // tree level whose boxes give the screen bounds
     BranchMethod branchMethod = BranchMethod::Bitmask;
     BoundsSpace boundsSpace = BoundsSpace::Camera3D;
@@ -46,7 +46,14 @@ struct RasterizerOptions {
     int trianglesPerGroup() const;
     // Throws InputError(source, "rasterizer.max_triangles_per_group") when the fields disagree.
     void validate(const std::string& source) const;
+    // Throws InputError(source, "rasterizer.tile_size") when a tile holds more samples than a
+    // worker keeps (kMaxTileSamples).
+    void validateTileSamples(int samplesPerPixel, const std::string& source) const;
 };
+
+// The most samples a tile may hold: each rasterizer worker keeps one tile's rays, about 200 bytes
+// a sample (rasterizer/tile_rays.h), so 2^20 is some 200 MiB a worker.
+inline constexpr std::int64_t kMaxTileSamples = std::int64_t(1) << 20;
 
 inline constexpr int kMaxLeavesPerHierarchy = 64;
 

@@ -286,6 +286,7 @@ void chargeApproximateWork(const ApproximateWork& w, PatchOps& last) {
 
 RenderResult renderScene(const SceneDesc& scene, const RenderOptions& options) {
     scene.rasterizer.validate(scene.path);
+    scene.rasterizer.validateTileSamples(scene.film.samplesPerPixel, scene.path);
     if (options.maxLayers < 1 || options.maxLayers > 255)
         throw InputError("command line", "--max-layers", "must be in [1, 255]");
     RenderResult result;
