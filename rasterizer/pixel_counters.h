@@ -3,19 +3,18 @@
 //
 // Representation
 // --------------
-// `kPixelQuantities` names each per-pixel quantity once: its heat-map file and title, and how it
-// is read from the rasterizer's work counts (a RasterWork difference taken around one pixel's
-// samples). A PixelCounters holds one row-major array per quantity, plus a per-tile count of
-// tile tests. A pixel's entries are written only by the worker that owns its tile, so the arrays
-// fill without locks and the same for any thread count. Allocated only when heat maps are asked
-// for; the rasterizer skips all of it when it has none.
+// `kPixelQuantities` names each per-pixel quantity once: its heat-map file and title; the
+// rasterizer counts each per sample (rasterizer/tile_rays.h, `SampleWork`) and adds a tile's
+// counts to its pixels when the tile is done. A PixelCounters holds one row-major array per
+// quantity, plus a per-tile count of tile tests. A pixel's entries are written only by the worker
+// that owns its tile, so the arrays fill without locks and the same for any thread count.
+// Allocated only when heat maps are asked for; the rasterizer skips all of it when it has none.
 
 #include <array>
 #include <cstdint>
 #include <string_view>
 #include <vector>
 
-#include "rasterizer/raster_work.h"
 #include "rasterizer/tile_grid.h"
 
 namespace patchsim {
@@ -23,17 +22,15 @@ namespace patchsim {
 struct PixelQuantity {
     const char* file;   // heat_<file>_pixel.png
     const char* title;  // "<title> per pixel"
-    std::int64_t (*of)(const RasterWork& work);
 };
 
+// "visibility samples" counts nearer opaque hits and transparent fragments alike.
 inline constexpr std::array<PixelQuantity, 5> kPixelQuantities{{
-    {"samples_tested", "samples tested", [](const RasterWork& w) { return w.samplesTested; }},
-    {"rays_cast", "rays cast", [](const RasterWork& w) { return w.raysCast; }},
-    {"ray_box_tests", "ray-box tests", [](const RasterWork& w) { return w.rayBoxTests; }},
-    {"ray_triangle_tests", "ray-triangle tests",
-     [](const RasterWork& w) { return w.rayTriangleTests; }},
-    {"visibility_samples", "visibility samples",
-     [](const RasterWork& w) { return w.visibilitySamples + w.transparentFragments; }},
+    {"samples_tested", "samples tested"},
+    {"rays_cast", "rays cast"},
+    {"ray_box_tests", "ray-box tests"},
+    {"ray_triangle_tests", "ray-triangle tests"},
+    {"visibility_samples", "visibility samples"},
 }};
 // The index of the quantity with heat-map file name `file` (compile-time).
 constexpr std::size_t pixelQuantity(std::string_view file) {
@@ -47,8 +44,6 @@ class PixelCounters {
     explicit PixelCounters(const TileGrid& grid);
 
     const TileGrid& grid() const { return grid_; }
-    // Adds the work done between `before` and `after` to pixel (x, y).
-    void record(int x, int y, const RasterWork& before, const RasterWork& after);
     // Adds `value` to quantity `quantity` (an index into kPixelQuantities) of pixel (x, y).
     void add(int x, int y, std::size_t quantity, std::uint32_t value) {
         values_[quantity][pixel(x, y)] += value;

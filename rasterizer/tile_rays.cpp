@@ -268,12 +268,17 @@ void TileRays::store(VisibilityBuffer& buffer, PixelCounters* pixels) const {
         }
     }
     if (!pixels || !frame_.countPerSample) return;
+    // Each per-sample count's heat map.
+    constexpr std::size_t kQuantity[] = {
+        pixelQuantity("samples_tested"), pixelQuantity("rays_cast"), pixelQuantity("ray_box_tests"),
+        pixelQuantity("ray_triangle_tests"), pixelQuantity("visibility_samples")};
+    static_assert(std::size(kQuantity) == std::size_t(SampleWork::kCount));
     const auto width = std::uint32_t(buffer.width());
     const auto spp = std::uint32_t(frame_.samplesPerPixel);
     for (int i = 0; i < count_; ++i) {
         const std::uint32_t pixel = record[i] / spp;
         for (std::size_t q = 0; q < std::size_t(SampleWork::kCount); ++q)
-            pixels->add(int(pixel % width), int(pixel / width), q, work[q][i]);
+            pixels->add(int(pixel % width), int(pixel / width), kQuantity[q], work[q][i]);
     }
 }
 
@@ -290,10 +295,6 @@ Ray TileRays::ray(int i) const {
     r.lambdaMin = lambdaMin_;
     r.lambdaMax = rayEnd[i];
     return r;
-}
-
-ShearedRay TileRays::shearedRay(int i) const {
-    return shearRay(ray(i));
 }
 
 }  // namespace patchsim

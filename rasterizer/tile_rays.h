@@ -112,9 +112,8 @@ class TileRays {
     float shearAlongZ() const { return 1.0f / -depthPerLambda_; }
     // The slab-test ray of sample i (for the rare ray parallel to an axis).
     SlabRay slabRay(int i) const;
-    // The scalar ray and shear of sample i (for the rare degenerate triangle test).
+    // The scalar ray of sample i.
     Ray ray(int i) const;
-    ShearedRay shearedRay(int i) const;
 
     // Per sample (see the essay above).
     float* time;

@@ -44,11 +44,11 @@ TEST(HeatMap, WritesTheMapWithALegendBelow) {
 
 TEST(HeatMap, FrameWorkGivesPixelAndTileMaps) {
     PixelCounters pixels(TileGrid{16, 8, 8});
-    RasterWork before, after;
-    after.samplesTested = 4;
-    after.visibilitySamples = 1;
     for (int y = 0; y < 8; ++y)
-        for (int x = 0; x < 16; ++x) pixels.record(x, y, before, after);
+        for (int x = 0; x < 16; ++x) {
+            pixels.add(x, y, pixelQuantity("samples_tested"), 4);
+            pixels.add(x, y, pixelQuantity("visibility_samples"), 1);
+        }
     EXPECT_EQ(pixels.values(pixelQuantity("samples_tested"))[pixels.pixel(3, 5)], 4u);
     const std::string dir = test::temporaryDirectory();
     OutputSet outputs;
