@@ -317,7 +317,7 @@ class Pass {
     LaneRays fetchRays(const Indices& at) const {
         LaneRays r;
         r.time = fetch(d_, rays_.time, at);
-        r.weight0 = fetch(d_, rays_.weight0, at);
+        r.weight0 = hn::Sub(hn::Set(d_, 1.0f), r.time);  // 1 - t, as the reference lerps
         r.originX = fetch(d_, rays_.originX, at);
         r.originY = fetch(d_, rays_.originY, at);
         r.shearX = fetch(d_, rays_.shearX, at);

@@ -40,7 +40,6 @@ void SetupImpl(TileRays& r, const RayCameraConstants& c) {
     const VF absZ = hn::Set(d, dirZ < 0 ? -dirZ : dirZ);
     const bool parallelZ = (dirZ < 0 ? -dirZ : dirZ) < kParallelDirection;
     for (int i = 0; i < r.count(); i += lanes) {
-        const VF t = hn::Load(d, r.time + i);
         // Staged by TileRays::load: raster position in directionX/Y, lens disk in originX/Y.
         const VF rasterX = hn::Load(d, r.directionX + i), rasterY = hn::Load(d, r.directionY + i);
         const VF diskX = hn::Load(d, r.originX + i), diskY = hn::Load(d, r.originY + i);
@@ -54,8 +53,6 @@ void SetupImpl(TileRays& r, const RayCameraConstants& c) {
             dx = hn::Sub(hn::Mul(sx, focus), ox);
             dy = hn::Sub(hn::Mul(sy, focus), oy);
         }
-        const VF w0 = hn::Sub(one, t);
-        hn::Store(w0, d, r.weight0 + i);
         hn::Store(ox, d, r.originX + i);
         hn::Store(oy, d, r.originY + i);
         hn::Store(dx, d, r.directionX + i);

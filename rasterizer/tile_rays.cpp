@@ -24,7 +24,7 @@ int roundUpToLanes(int n) {
 }
 
 // The float arrays of TileRays, in the order they are carved out of one allocation.
-constexpr int kFloatArrays = 24;
+constexpr int kFloatArrays = 18;
 constexpr int kIntArrays = 8;
 
 }  // namespace
@@ -55,12 +55,11 @@ TileRays::TileRays(const TileRayFrame& frame) : frame_(frame) {
 
     const auto n = std::size_t(capacity_);
     floats_ = hwy::AllocateAligned<float>(n * kFloatArrays);
-    float** floatArrays[kFloatArrays] = {
-        &time,     &weight0,  &originX, &originY, &directionX, &directionY, &inverseX, &inverseY,
-        &slabC[0], &slabC[1], &shearX,  &shearY,  &shearZ,     &lensU,      &lensV,    &bestDepth,
-        &bestB1,   &bestB2,   &rayEnd,  nullptr,  nullptr,     nullptr,     nullptr,   nullptr};
-    for (int a = 0; a < kFloatArrays; ++a)
-        if (floatArrays[a]) *floatArrays[a] = floats_.get() + std::size_t(a) * n;
+    float** floatArrays[kFloatArrays] = {&time,     &originX,  &originY,  &directionX, &directionY,
+                                         &inverseX, &inverseY, &slabC[0], &slabC[1],   &shearX,
+                                         &shearY,   &shearZ,   &lensU,    &lensV,      &bestDepth,
+                                         &bestB1,   &bestB2,   &rayEnd};
+    for (int a = 0; a < kFloatArrays; ++a) *floatArrays[a] = floats_.get() + std::size_t(a) * n;
     ints_ = hwy::AllocateAligned<std::int32_t>(n * kIntArrays);
     std::int32_t** intArrays[kIntArrays] = {&axisX,     &axisY,  &axisZ,  &parallelAxes,
                                             &bestPatch, nullptr, nullptr, nullptr};
@@ -191,7 +190,7 @@ void TileRays::startHits(const VisibilityBuffer& buffer) {
     }
 }
 
-void TileRays::setFlags() {
+void TileRays::summarize() {
     // Branch-free accumulations, so the loop vectorizes.
     int offAxis = 0, parallel = 0, moving = 0;
     for (int i = 0; i < count_; ++i) {
@@ -202,7 +201,6 @@ void TileRays::setFlags() {
     allAlongZ_ = offAxis == 0;
     anyParallel_ = parallel != 0;
     allAtOpen_ = moving == 0;
-    for (int b = 0; b < padded_ / kMaxLanes; ++b) changed[b] = 0;
 }
 
 void TileRays::load(const TileRect& rect, const VisibilityBuffer& buffer) {
@@ -236,7 +234,8 @@ void TileRays::load(const TileRect& rect, const VisibilityBuffer& buffer) {
         bestDepth[i] = 0;
         bestPatch[i] = -1;
     }
-    setFlags();
+    summarize();
+    std::fill(changed, changed + padded_ / kMaxLanes, std::uint16_t(0));
     if (frame_.countPerSample)
         for (auto* w : work) std::fill(w, w + padded_, 0u);
     farthestStale_ = true;

@@ -15,7 +15,7 @@
 // their sample index, so the rays that meet a small box sit in few vectors. Without motion there
 // is one bucket. The order depends only on the sample set, never on the geometry or the threads.
 //
-// Per sample: the ray (time t and 1 - t; origin on the lens plane z = 0; direction, whose z is
+// Per sample: the ray (time t; origin on the lens plane z = 0; direction, whose z is
 // the same for every camera ray), the constants of the 12-multiply-add moving-box test (1/d per
 // axis, from which a = (1 - t)/d and b = t/d follow in two multiplies, and c = -o/d, 0 along z),
 // the shear of the watertight triangle test (axes kx, ky, kz and sx, sy, sz), which axes the ray
@@ -117,7 +117,6 @@ class TileRays {
 
     // Per sample (see the essay above).
     float* time;
-    float* weight0;  // 1 - t
     float* originX;
     float* originY;
     float* directionX;
@@ -170,7 +169,7 @@ class TileRays {
     void orderByBucket(const TileRect& rect);
     void place(int i, int k, int j);
     void startHits(const VisibilityBuffer& buffer);
-    void setFlags();
+    void summarize();
 
     TileRayFrame frame_;
     float depthPerLambda_ = 1, lambdaMin_ = 0, farDepth_ = 0;
