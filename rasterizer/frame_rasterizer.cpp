@@ -5,6 +5,7 @@
 
 #include "pipeline/core/parallel.h"
 #include "pipeline/core/progress.h"
+#include "rasterizer/hierarchy_orders.h"
 #include "rasterizer/patch_merge.h"
 #include "rasterizer/tile_bins.h"
 
@@ -18,19 +19,22 @@ std::vector<std::vector<PatchRasterizer::Group>> prepareGroups(const RasterUnits
                                                                const PatchRasterizer& rasterizer,
                                                                int threads,
                                                                std::vector<RasterWork>& work) {
+    const RasterizerOptions& options = rasterizer.options();
+    const HierarchyOrders orders(units.meshes, options.trianglesPerGroup(), options.leafSize,
+                                 threads);
     std::vector<std::vector<PatchRasterizer::Group>> groups(units.meshes.size());
     parallelFor(units.meshes.size(), threads, [&](int, std::size_t u) {
         const MovingMesh& mesh = *units.meshes[u];
         RasterWork& w = work[units.firstPatch[u]];
         w.patches += std::int64_t(units.patchCount[u]);
         if (units.patchCount[u] > 1) w.patchesMerged += std::int64_t(units.patchCount[u]);
-        std::vector<std::uint32_t> triangles, groupBegin;
-        splitIntoGroups(mesh, rasterizer.options().trianglesPerGroup(), triangles, groupBegin);
-        for (std::size_t g = 0; g + 1 < groupBegin.size(); ++g) {
-            if (groupBegin[g] == groupBegin[g + 1]) continue;
+        const HierarchyOrder& order = orders.of(u);
+        const std::vector<std::uint32_t>& begin = order.groupBegin;
+        for (std::size_t g = 0; g + 1 < begin.size(); ++g) {
+            if (begin[g] == begin[g + 1]) continue;
             groups[u].emplace_back();
-            rasterizer.prepareGroup(mesh, triangles.data() + groupBegin[g],
-                                    groupBegin[g + 1] - groupBegin[g], groups[u].back(), w);
+            rasterizer.prepareGroup(mesh, order.triangles.data() + begin[g],
+                                    begin[g + 1] - begin[g], groups[u].back(), w);
         }
     });
     return groups;

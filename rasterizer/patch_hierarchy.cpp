@@ -50,25 +50,26 @@ void orderTriangles(const MovingMesh& mesh, std::uint32_t* triangles, std::size_
     for (std::size_t i = 0; i < count; ++i) triangles[i] = keys[i].triangle;
 }
 
-// [0, n) halved `levels` times the way orderRange splits it: 2^levels ranges, left to right.
-std::vector<std::pair<std::size_t, std::size_t>> halvedRanges(std::size_t n, int levels) {
-    std::vector<std::pair<std::size_t, std::size_t>> ranges{{0, n}};
-    for (int l = 0; l < levels; ++l) {
-        std::vector<std::pair<std::size_t, std::size_t>> next;
-        for (auto [b, e] : ranges) {
-            const std::size_t m = b + (e - b + 1) / 2;
-            next.push_back({b, m});
-            next.push_back({m, e});
-        }
-        ranges = std::move(next);
+// [begin, end) halved `levels` times the way orderRange splits it: the ends of its 2^levels
+// ranges, left to right, from `ends` on.
+std::uint32_t* halvedEnds(std::size_t begin, std::size_t end, int levels, std::uint32_t* ends) {
+    if (levels == 0) {
+        *ends = std::uint32_t(end);
+        return ends + 1;
     }
-    return ranges;
+    const std::size_t mid = begin + (end - begin + 1) / 2;
+    return halvedEnds(mid, end, levels - 1, halvedEnds(begin, mid, levels - 1, ends));
 }
 
 int ceilLog2(std::size_t n) {
     int l = 0;
     while ((std::size_t(1) << l) < n) ++l;
     return l;
+}
+
+int depthFor(std::size_t count, int leafSize) {
+    const std::size_t leavesNeeded = (count + std::size_t(leafSize) - 1) / std::size_t(leafSize);
+    return std::min(ceilLog2(std::max<std::size_t>(leavesNeeded, 1)), kMaxHierarchyDepth);
 }
 
 }  // namespace
@@ -82,8 +83,8 @@ void splitIntoGroups(const MovingMesh& mesh, int maxPerGroup, std::vector<std::u
         ceilLog2((n + std::size_t(maxPerGroup) - 1) / std::size_t(std::max(1, maxPerGroup)));
     orderTriangles(mesh, order.data(), n, levels);
     // The same halving as orderRange, so group g is the g-th range at depth `levels`.
-    groupBegin.assign(1, 0);
-    for (auto [b, e] : halvedRanges(n, levels)) groupBegin.push_back(std::uint32_t(e));
+    groupBegin.assign((std::size_t(1) << levels) + 1, 0);
+    halvedEnds(0, n, levels, groupBegin.data() + 1);
 }
 
 int PatchHierarchy::levelOf(int node) const {
@@ -92,22 +93,36 @@ int PatchHierarchy::levelOf(int node) const {
     return level;
 }
 
+HierarchyOrder hierarchyOrder(const MovingMesh& mesh, int maxPerGroup, int leafSize) {
+    HierarchyOrder order;
+    splitIntoGroups(mesh, maxPerGroup, order.triangles, order.groupBegin);
+    for (std::size_t g = 0; g + 1 < order.groupBegin.size(); ++g) {
+        const std::size_t begin = order.groupBegin[g], count = order.groupBegin[g + 1] - begin;
+        orderTriangles(mesh, order.triangles.data() + begin, count, depthFor(count, leafSize));
+    }
+    return order;
+}
+
 void PatchHierarchy::build(const MovingMesh& mesh, const std::uint32_t* triangles,
                            std::size_t count, int leafSize) {
-    const std::size_t leavesNeeded = (count + std::size_t(leafSize) - 1) / std::size_t(leafSize);
-    depth_ = std::min(ceilLog2(std::max<std::size_t>(leavesNeeded, 1)), kMaxHierarchyDepth);
+    std::vector<std::uint32_t> ordered(triangles, triangles + count);
+    orderTriangles(mesh, ordered.data(), count, depthFor(count, leafSize));
+    buildOrdered(mesh, ordered.data(), count, leafSize);
+}
+
+void PatchHierarchy::buildOrdered(const MovingMesh& mesh, const std::uint32_t* triangles,
+                                  std::size_t count, int leafSize) {
+    depth_ = depthFor(count, leafSize);
     triangles_.assign(triangles, triangles + count);
-    orderTriangles(mesh, triangles_.data(), count, depth_);
     const int leaves = 1 << depth_;
     nodes_.assign(std::size_t(2 * leaves - 1), LBBox{});
     leafBegin_.assign(std::size_t(leaves) + 1, 0);
     // Leaf ranges follow orderRange's halving.
-    const auto ranges = halvedRanges(count, depth_);
+    halvedEnds(0, count, depth_, leafBegin_.data() + 1);
     const int first = firstLeaf(depth_);
     for (int j = 0; j < leaves; ++j) {
-        leafBegin_[std::size_t(j) + 1] = std::uint32_t(ranges[std::size_t(j)].second);
         LBBox& box = nodes_[std::size_t(first + j)];
-        for (std::size_t k = ranges[std::size_t(j)].first; k < ranges[std::size_t(j)].second; ++k)
+        for (std::size_t k = leafBegin_[std::size_t(j)]; k < leafBegin_[std::size_t(j) + 1]; ++k)
             box.extend(mesh.triangleBounds(triangles_[k]));
     }
     for (int i = first - 1; i >= 0; --i) {

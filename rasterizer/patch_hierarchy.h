@@ -31,6 +31,10 @@ class PatchHierarchy {
     // `triangles` are indices into `mesh` triangles (one group).
     void build(const MovingMesh& mesh, const std::uint32_t* triangles, std::size_t count,
                int leafSize);
+    // The same tree from triangles already in the order `build` puts them in (a group of
+    // hierarchyOrder): the boxes only.
+    void buildOrdered(const MovingMesh& mesh, const std::uint32_t* triangles, std::size_t count,
+                      int leafSize);
 
     int depth() const { return depth_; }
     int leafCount() const { return 1 << depth_; }
@@ -60,5 +64,14 @@ class PatchHierarchy {
 // `maxPerGroup` (a power-of-two number of groups). `groupBegin` gets groups+1 offsets into `order`.
 void splitIntoGroups(const MovingMesh& mesh, int maxPerGroup, std::vector<std::uint32_t>& order,
                      std::vector<std::uint32_t>& groupBegin);
+
+// A mesh's triangles split into groups (splitIntoGroups), each group in the order its hierarchy
+// is built from (PatchHierarchy::build). It depends only on the mesh's domain positions and index
+// triples, its tessellation pattern, so meshes of one pattern have one order.
+struct HierarchyOrder {
+    std::vector<std::uint32_t> triangles;   // group after group
+    std::vector<std::uint32_t> groupBegin;  // where each group starts, then the end
+};
+HierarchyOrder hierarchyOrder(const MovingMesh& mesh, int maxPerGroup, int leafSize);
 
 }  // namespace patchsim

@@ -42,6 +42,7 @@ class PatchRasterizer {
         SpaceNodes nodes;  // the hierarchy's boxes in the tile tests' bounds space
         TileRange tiles;   // the tiles its screen bounds cover
     };
+    // `triangles`: one group of the mesh's hierarchyOrder, in that order.
     void prepareGroup(const MovingMesh& mesh, const std::uint32_t* triangles, std::size_t count,
                       Group& group, RasterWork& work) const;
     // `rays` holds the tile's rays and nearest hits (TileRays::load); transparent hits go to

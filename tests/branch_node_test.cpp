@@ -52,10 +52,11 @@ TEST(BranchNode, BitmaskIsNeverAboveFirstSplitOnARealScene) {
         fe.tessellate(i, patch, ws);
         MovingMesh mesh;
         toMovingMesh(patch, fe.camera(), effects.motion, int(i), true, mesh);
-        std::vector<std::uint32_t> all(mesh.triangleCount());
-        for (std::size_t k = 0; k < all.size(); ++k) all[k] = std::uint32_t(k);
+        // The whole patch as one group.
+        const HierarchyOrder all =
+            hierarchyOrder(mesh, int(mesh.triangleCount()), rasterizer.options().leafSize);
         PatchRasterizer::Group group;
-        rasterizer.prepareGroup(mesh, all.data(), all.size(), group, work);
+        rasterizer.prepareGroup(mesh, all.triangles.data(), all.triangles.size(), group, work);
         for (int ty = group.tiles.y0; ty < group.tiles.y1; ++ty)
             for (int tx = group.tiles.x0; tx < group.tiles.x1; ++tx) {
                 const TileFrustum frustum = makeTileFrustum(
