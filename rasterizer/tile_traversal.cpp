@@ -288,9 +288,25 @@ struct CameraSpaceLanes {
         if (box.empty()) return false;
         Measure m;
         measure(box, true, m);
-        RasterWork uncounted;
-        spatial = overlapsAfter(box, m, true, uncounted);
+        spatial = !outsideAtBothEnds(box, m);
         return timesAfter(box, m, times, work);
+    }
+
+    // overlapsAfter's answer with motion, without its counts: outside every plane of a side at
+    // both shutter ends (from the bits), or beyond the near or far plane at both.
+    bool outsideAtBothEnds(const LBBox& box, const Measure& m) const {
+        const unsigned both = m.open & m.close;
+        const unsigned sidePlanes = (1u << frustum.planesPerSide) - 1;
+        for (int side = 0; side < 4; ++side) {
+            const unsigned planesOfSide = sidePlanes << (side * frustum.planesPerSide);
+            if ((both & planesOfSide) == planesOfSide) return true;
+        }
+        if (!frustum.testNearFar) return false;
+        auto beyond = [&box](const Plane& pl) {
+            return pl.distance(nVertex(box.bounds0, pl.n)) > 0 &&
+                   pl.distance(nVertex(box.bounds1, pl.n)) > 0;
+        };
+        return beyond(frustum.nearPlane) || beyond(frustum.farPlane);
     }
 };
 
