@@ -24,7 +24,7 @@ std::uint64_t mixBytes(const void* data, std::size_t bytes, std::uint64_t h) {
         mix(word);
     }
     std::uint64_t tail = 0;
-    std::memcpy(&tail, p + i, bytes - i);
+    if (i < bytes) std::memcpy(&tail, p + i, bytes - i);  // an empty mesh's data may be null
     mix(tail ^ bytes);
     return h;
 }
@@ -34,13 +34,17 @@ std::uint64_t patternHash(const MovingMesh& m) {
     return mixBytes(m.indices.data(), m.indices.size() * sizeof(std::uint32_t), h);
 }
 
+// Whether two arrays hold the same bytes (memcmp is not defined on the null data of an empty one).
+template <typename T>
+bool sameBytes(const std::vector<T>& a, const std::vector<T>& b) {
+    return a.size() == b.size() &&
+           (a.empty() || std::memcmp(a.data(), b.data(), a.size() * sizeof(T)) == 0);
+}
+
 }  // namespace
 
 bool sameTessellationPattern(const MovingMesh& a, const MovingMesh& b) {
-    return a.domain.size() == b.domain.size() && a.indices.size() == b.indices.size() &&
-           std::memcmp(a.domain.data(), b.domain.data(), a.domain.size() * sizeof(Vec2)) == 0 &&
-           std::memcmp(a.indices.data(), b.indices.data(),
-                       a.indices.size() * sizeof(std::uint32_t)) == 0;
+    return sameBytes(a.domain, b.domain) && sameBytes(a.indices, b.indices);
 }
 
 HierarchyOrders::HierarchyOrders(const std::vector<const MovingMesh*>& meshes, int maxPerGroup,

@@ -78,6 +78,21 @@ TEST(HierarchyOrders, OneDifferentDomainBitIsAnotherPattern) {
     expectSameOrder(orders.of(1), hierarchyOrder(two[1], 8, 4), 1);
 }
 
+// A patch culled to nothing has no domain or index data (null pointers): it has a pattern of its
+// own, shared with other empty ones, and an empty order.
+TEST(HierarchyOrders, EmptyMeshesShareAnEmptyOrder) {
+    SceneDesc scene = defaultScene();
+    scene.tessellation.targetEdgePixels = 0;
+    scene.tessellation.factor = 2.0f;
+    const std::vector<MovingMesh> meshes{MovingMesh{}, sceneMeshes(scene)[0], MovingMesh{}};
+    EXPECT_TRUE(sameTessellationPattern(meshes[0], meshes[2]));
+    EXPECT_FALSE(sameTessellationPattern(meshes[0], meshes[1]));
+    const HierarchyOrders orders(pointers(meshes), 8, 4, 2);
+    EXPECT_EQ(orders.ordersMade(), 2u);
+    EXPECT_TRUE(orders.of(2).triangles.empty());
+    expectSameOrder(orders.of(1), hierarchyOrder(meshes[1], 8, 4), 1);
+}
+
 // A hierarchy built from its group of hierarchyOrder equals one built from the triangles in any
 // order: the same boxes and the same leaf lists.
 TEST(HierarchyOrders, BuildOrderedEqualsBuild) {
