@@ -2,10 +2,10 @@
 // The order each rasterization unit's hierarchies are built from, made once per tessellation
 // pattern in a frame. Ordering a mesh's triangles (median splits of their domain centroids, to
 // groups and then to leaves) depends only on the domain positions and index triples the
-// tessellator gave it, not on where the patch is: every patch tessellated with the same factors
-// has the same order, as a hardware builder would read it from one table per pattern. With
-// uniform factors (a scene at one fixed factor) a frame orders one mesh; with adaptive factors,
-// one per distinct set of edge and inside factors.
+// tessellator gave it, not on where the patch is: every patch of one domain (quad or triangle)
+// tessellated with the same factors has the same order, which hardware could keep in a table per
+// pattern. At one fixed factor a frame orders one mesh per domain; with adaptive factors, one per
+// distinct set of edge and inside factors.
 //
 // Representation
 // --------------
