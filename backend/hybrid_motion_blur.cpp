@@ -136,15 +136,15 @@ struct RevealScene {
     std::vector<Group> groups;
 
     explicit RevealScene(const std::vector<MovingMesh>& meshes) {
-        std::vector<std::uint32_t> order, begin;
         for (std::size_t m = 0; m < meshes.size(); ++m) {
             if (!meshes[m].opaque || meshes[m].triangleCount() == 0) continue;
-            splitIntoGroups(meshes[m], 256, order, begin);
+            const HierarchyOrder order = hierarchyOrder(meshes[m], 256, 4);
+            const std::vector<std::uint32_t>& begin = order.groupBegin;
             for (std::size_t g = 0; g + 1 < begin.size(); ++g) {
                 if (begin[g] == begin[g + 1]) continue;
                 groups.push_back({m, {}});
-                groups.back().hierarchy.build(meshes[m], order.data() + begin[g],
-                                              begin[g + 1] - begin[g], 4);
+                groups.back().hierarchy.buildOrdered(meshes[m], order.triangles.data() + begin[g],
+                                                     begin[g + 1] - begin[g], 4);
             }
         }
     }
