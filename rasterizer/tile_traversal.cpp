@@ -288,13 +288,13 @@ struct CameraSpaceLanes {
         if (box.empty()) return false;
         Measure m;
         measure(box, true, m);
-        spatial = !outsideAtBothEnds(box, m);
+        spatial = !outsideInSpace(box, m);
         return timesAfter(box, m, times, work);
     }
 
     // overlapsAfter's answer with motion, without its counts: outside every plane of a side at
     // both shutter ends (from the bits), or beyond the near or far plane at both.
-    bool outsideAtBothEnds(const LBBox& box, const Measure& m) const {
+    bool outsideInSpace(const LBBox& box, const Measure& m) const {
         const unsigned both = m.open & m.close;
         const unsigned sidePlanes = (1u << frustum.planesPerSide) - 1;
         for (int side = 0; side < 4; ++side) {
