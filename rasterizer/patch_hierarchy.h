@@ -12,7 +12,9 @@
 // Built from the tessellator's implicit grid: triangles are ordered by their domain centroids,
 // split in half by u at even levels and by v at odd levels, so each subtree covers a compact
 // region of the patch's domain. A patch with more triangles than a group may hold is first split
-// the same way into groups, one hierarchy per group (`splitIntoGroups`).
+// the same way into groups, one hierarchy per group (`splitIntoGroups`). `hierarchyOrder` makes
+// both orders at once, so the rasterizer builds each hierarchy from its group's list as it stands
+// (`buildOrdered`) and shares the list between patches of one pattern (hierarchy_orders.h).
 
 #include <cstdint>
 #include <vector>
