@@ -21,15 +21,42 @@ float toUnit(std::uint64_t bits) {
     return float(bits >> 40) * (1.0f / 16777216.0f);
 }
 
-// A random permutation of [0, n) evaluated at one index (cycle-walking hash permutation of
-// Kensler's "Correlated multi-jittered sampling").
-std::uint32_t permute(std::uint32_t i, std::uint32_t n, std::uint32_t key) {
+// The smallest all-ones mask covering [0, n).
+std::uint32_t maskCovering(std::uint32_t n) {
     std::uint32_t w = n - 1;
     w |= w >> 1;
     w |= w >> 2;
     w |= w >> 4;
     w |= w >> 8;
     w |= w >> 16;
+    return w;
+}
+
+}  // namespace
+
+SampleGenerator::SampleGenerator(std::uint64_t seed, int samplesPerPixel, const Effects& effects,
+                                 SamplePattern pattern, float stillTime)
+    : seed_(seed),
+      spp_(samplesPerPixel),
+      // A count below 1 makes no samples; the divisor must still not be 0.
+      count_(std::uint32_t(std::max(samplesPerPixel, 1))),
+      permutationMask_(maskCovering(count_.divisor())),
+      gridSide_(0),
+      gridDivisor_(1),
+      effects_(effects),
+      pattern_(pattern),
+      stillTime_(stillTime) {
+    const int side = int(std::lround(std::sqrt(double(samplesPerPixel))));
+    if (side * side == samplesPerPixel) {
+        gridSide_ = side;
+        gridDivisor_ = FixedDivisor(std::uint32_t(side));
+    }
+}
+
+// A random permutation of [0, n) evaluated at one index (cycle-walking hash permutation of
+// Kensler's "Correlated multi-jittered sampling").
+std::uint32_t SampleGenerator::permute(std::uint32_t i, std::uint32_t key) const {
+    const std::uint32_t w = permutationMask_;
     do {
         i ^= key;
         i *= 0xe170893d;
@@ -49,22 +76,8 @@ std::uint32_t permute(std::uint32_t i, std::uint32_t n, std::uint32_t key) {
         i *= 0xc860a3df;
         i &= w;
         i ^= i >> 5;
-    } while (i >= n);
-    return (i + key) % n;
-}
-
-}  // namespace
-
-SampleGenerator::SampleGenerator(std::uint64_t seed, int samplesPerPixel, const Effects& effects,
-                                 SamplePattern pattern, float stillTime)
-    : seed_(seed),
-      spp_(samplesPerPixel),
-      gridSide_(0),
-      effects_(effects),
-      pattern_(pattern),
-      stillTime_(stillTime) {
-    const int side = int(std::lround(std::sqrt(double(samplesPerPixel))));
-    if (side * side == samplesPerPixel) gridSide_ = side;
+    } while (i >= count_.divisor());
+    return count_.remainder(i + key);
 }
 
 SampleGenerator::PixelStreams SampleGenerator::pixelStreams(int x, int y) const {
@@ -87,13 +100,13 @@ Sample SampleGenerator::sampleOf(const PixelStreams& p, int index) const {
     const auto i = std::uint32_t(index);
     // Stratum of this sample in a dimension: a per-pixel permutation of the sample index.
     auto stratum = [&](int dimension) {
-        return float(permute(i, n, std::uint32_t(p.dimension[dimension] >> 32)));
+        return float(permute(i, std::uint32_t(p.dimension[dimension] >> 32)));
     };
     Sample s;
     if (gridSide_ > 0) {
-        const std::uint32_t cell = permute(i, n, std::uint32_t(p.dimension[1]));
-        s.pixelOffset = {(float(cell % std::uint32_t(gridSide_)) + jitter(2)) / float(gridSide_),
-                         (float(cell / std::uint32_t(gridSide_)) + jitter(3)) / float(gridSide_)};
+        const std::uint32_t cell = permute(i, std::uint32_t(p.dimension[1]));
+        s.pixelOffset = {(float(gridDivisor_.remainder(cell)) + jitter(2)) / float(gridSide_),
+                         (float(gridDivisor_.quotient(cell)) + jitter(3)) / float(gridSide_)};
     } else {
         s.pixelOffset = {(stratum(4) + jitter(2)) / float(n), (stratum(5) + jitter(3)) / float(n)};
     }

@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "pipeline/core/effects.h"
+#include "pipeline/core/fixed_divisor.h"
 #include "pipeline/core/math.h"
 
 namespace patchsim {
@@ -53,10 +54,14 @@ class SampleGenerator {
     };
     PixelStreams pixelStreams(int x, int y) const;
     Sample sampleOf(const PixelStreams& streams, int index) const;
+    std::uint32_t permute(std::uint32_t i, std::uint32_t key) const;
 
     std::uint64_t seed_;
     int spp_;
-    int gridSide_;  // > 0 when spp is a perfect square
+    FixedDivisor count_;             // by spp
+    std::uint32_t permutationMask_;  // the smallest all-ones mask covering [0, spp)
+    int gridSide_;                   // > 0 when spp is a perfect square
+    FixedDivisor gridDivisor_;       // by gridSide_ (by 1 when there is none)
     Effects effects_;
     SamplePattern pattern_;
     float stillTime_;
