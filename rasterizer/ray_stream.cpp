@@ -158,7 +158,8 @@ class Pass {
                 addWork(SampleWork::Rays, index, m, 1);
                 addWork(SampleWork::BoxTests, index, m, 1);
             }
-            MF hit = hn::And(m, hitsBox(box, SlabLanes::contiguous(d_, rays_, t, std::size_t(at))));
+            MF hit = hn::And(
+                m, hitsBox(box, SlabLanes<false>::contiguous(d_, rays_, t, std::size_t(at))));
             if (rays_.anyParallel()) hit = parallelLanes(box, index, m, hit);
             hn::StoreU(hn::Compress(index, hn::RebindMask(di_, hit)), di_, out + count);
             count += int(hn::CountTrue(d_, hit));
@@ -184,17 +185,23 @@ class Pass {
     }
 
     // The slab-test constants of a vector of rays: a = (1 - t) / d and b = t / d from 1/d, in
-    // makeSlabRay's operations; c = -o / d; the ray's end.
+    // makeSlabRay's operations; c = -o / d; the ray's end. In a tile whose every sample is at
+    // shutter open, a is 1/d itself and b is a zero that hitsBox leaves out (see there).
+    template <bool kStill>
     struct SlabLanes {
         VF a[3], b[3], c[2], end;
         static SlabLanes of(DF d, const TileRays& r, VF t, VF inverseX, VF inverseY, VF c0, VF c1,
                             VF end) {
             SlabLanes s;
-            const VF w0 = hn::Sub(hn::Set(d, 1.0f), t);
             const VF inverse[3] = {inverseX, inverseY, hn::Set(d, r.inverseZ())};
-            for (int k = 0; k < 3; ++k) {
-                s.a[k] = hn::Mul(w0, inverse[k]);
-                s.b[k] = hn::Mul(t, inverse[k]);
+            if constexpr (kStill) {
+                for (int k = 0; k < 3; ++k) s.a[k] = inverse[k];  // (1 - 0) / d, to the bit
+            } else {
+                const VF w0 = hn::Sub(hn::Set(d, 1.0f), t);
+                for (int k = 0; k < 3; ++k) {
+                    s.a[k] = hn::Mul(w0, inverse[k]);
+                    s.b[k] = hn::Mul(t, inverse[k]);
+                }
             }
             s.c[0] = c0;
             s.c[1] = c1;
@@ -227,7 +234,8 @@ class Pass {
 
     // One vector of rays (`index`, `valid`, data `s` at times `t`) against one child: those whose
     // time is in its range and that meet its box are appended to its list.
-    void testChild(ChildTest& c, VI index, MF valid, VF t, const SlabLanes& s) {
+    template <bool kStill>
+    void testChild(ChildTest& c, VI index, MF valid, VF t, const SlabLanes<kStill>& s) {
         const MF active = hn::And(valid, hn::And(hn::Ge(t, c.lower), hn::Le(t, c.upper)));
         const std::size_t tests = hn::CountTrue(d_, active);
         if (tests == 0) return;
@@ -241,25 +249,32 @@ class Pass {
 
     // The rays of `in` (n of them) against the live ones of `children` (1 or 2): each ray's data
     // is gathered once for both boxes.
+    template <bool kStill>
     void filter(const std::int32_t* in, int n, ChildTest* children, int count) {
         for (int i = 0; i < n; i += lanes_) {
             MF valid;
             const Indices at = indicesAt(in, i, n, valid);
             const VF t = fetch(d_, rays_.time, at);
-            const SlabLanes s = SlabLanes::fetched(d_, rays_, t, at);
+            const auto s = SlabLanes<kStill>::fetched(d_, rays_, t, at);
             for (int c = 0; c < count; ++c) testChild(children[c], at.index, valid, t, s);
         }
     }
 
-    // The 12-multiply-add test of moving_box_ray.h, lane by lane, in the same operations.
-    HWY_INLINE MF hitsBox(const LBBox& box, const SlabLanes& s) const {
+    // The 12-multiply-add test of moving_box_ray.h, lane by lane, in the same operations. At
+    // shutter open the t = 1 terms are x1 * 0: a zero (the walk passes no empty box, so x1 is
+    // finite), which leaves the sum as it is or changes only the sign of a zero sum, and no
+    // comparison below sees that sign. So the six multiply-adds left give the scalar answer.
+    template <bool kStill>
+    HWY_INLINE MF hitsBox(const LBBox& box, const SlabLanes<kStill>& s) const {
         VF nearest = hn::Set(d_, rays_.lambdaMin());
         VF farthest = s.end;
         for (int k = 0; k < 3; ++k) {
-            VF e0 = hn::Add(hn::Mul(hn::Set(d_, box.bounds0.lower[k]), s.a[k]),
-                            hn::Mul(hn::Set(d_, box.bounds1.lower[k]), s.b[k]));
-            VF e1 = hn::Add(hn::Mul(hn::Set(d_, box.bounds0.upper[k]), s.a[k]),
-                            hn::Mul(hn::Set(d_, box.bounds1.upper[k]), s.b[k]));
+            VF e0 = hn::Mul(hn::Set(d_, box.bounds0.lower[k]), s.a[k]);
+            VF e1 = hn::Mul(hn::Set(d_, box.bounds0.upper[k]), s.a[k]);
+            if constexpr (!kStill) {
+                e0 = hn::Add(e0, hn::Mul(hn::Set(d_, box.bounds1.lower[k]), s.b[k]));
+                e1 = hn::Add(e1, hn::Mul(hn::Set(d_, box.bounds1.upper[k]), s.b[k]));
+            }
             if (k < 2) {  // the origin is on the lens plane: c is 0 along z
                 e0 = hn::Add(e0, s.c[k]);
                 e1 = hn::Add(e1, s.c[k]);
@@ -309,7 +324,10 @@ class Pass {
             nodes[count++] = child;
         }
         if (count == 0) return;
-        filter(in, n, tests, count);
+        if (rays_.allAtShutterOpen())
+            filter<true>(in, n, tests, count);
+        else
+            filter<false>(in, n, tests, count);
         for (int c = 0; c < count; ++c)
             if (tests[c].count > 0) descend(nodes[c], tests[c].out, tests[c].count, level + 1);
     }
