@@ -1,11 +1,14 @@
 // A whole render in one process, as `patchsim render` does it without reading the scene file or
 // writing images: front end, visibility, shading and resolve, on 1 and 2 threads (range(0)).
 // Process start-up (loading OpenImageIO's shared libraries) and file output are not in it; see
-// docs/PERFORMANCE.md for the whole command timed from outside.
+// docs/PERFORMANCE.md for the whole command timed from outside. Also the sampler alone: the
+// default film's samples (320 x 240 x 16, time and lens) on one thread, which a render makes
+// tile by tile inside its visibility step.
 
 #include <benchmark/benchmark.h>
 
 #include "pipeline/core/counters.h"
+#include "pipeline/core/samples.h"
 #include "pipeline/core/scene_reader.h"
 #include "pipeline/driver/render.h"
 
@@ -31,6 +34,18 @@ void wholeRender(benchmark::State& state) {
     state.counters["visibility ms"] = perFrame(visibility);
     state.counters["shading ms"] = perFrame(shading);
 }
+void defaultFilmSamples(benchmark::State& state) {
+    const SceneDesc scene = patchsim::defaultScene();
+    Effects effects;
+    effects.motion = effects.defocus = true;
+    const SampleGenerator generator(scene.film.seed, scene.film.samplesPerPixel, effects);
+    for (auto _ : state) {
+        const SampleTable table(generator, scene.film.width, scene.film.height, 1);
+        benchmark::DoNotOptimize(table.pixel(0, 0));
+    }
+}
+BENCHMARK(defaultFilmSamples)->Unit(benchmark::kMillisecond)->UseRealTime();
+
 BENCHMARK(wholeRender)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 }  // namespace
