@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 
 #include "pipeline/core/counters.h"
 #include "pipeline/core/parallel.h"
@@ -20,8 +21,10 @@ const char* resolveFilterName(ResolveFilter f) {
 
 namespace {
 
-// Per-pixel shading cache for the per-pixel-primitive rate: one entry per (patch, triangle).
-struct PixelShadeCache {
+// Per-pixel shading state: the per-pixel-primitive rate's cache, one entry per (patch, triangle),
+// and, when the frame's shading work is counted, where each fragment shaded is charged to its
+// patch (the timing model's pixel-shader invocations).
+struct PixelShading {
     struct Entry {
         std::int32_t patch;
         std::uint32_t triangle;
@@ -29,6 +32,25 @@ struct PixelShadeCache {
         float opacity;
     };
     std::vector<Entry> entries;  // reused for every pixel (cleared, capacity kept)
+    double* shadedPerPatch = nullptr;
+};
+
+// Fragments shaded per patch: an array per worker, summed after (whole numbers, so the sum is
+// exact in any order and does not depend on the threads).
+class ShadingWork {
+  public:
+    ShadingWork(std::size_t patches, int threads)
+        : perWorker_(std::size_t(resolveThreadCount(threads)), std::vector<double>(patches, 0.0)) {}
+    double* of(int worker) { return perWorker_[std::size_t(worker)].data(); }
+    std::vector<double> total() const {
+        std::vector<double> sum(perWorker_.front().size(), 0.0);
+        for (const std::vector<double>& w : perWorker_)
+            for (std::size_t i = 0; i < sum.size(); ++i) sum[i] += w[i];
+        return sum;
+    }
+
+  private:
+    std::vector<std::vector<double>> perWorker_;
 };
 
 struct Shaded {
@@ -36,8 +58,10 @@ struct Shaded {
     float opacity;
 };
 
+// `interpolated`, when given, gets the record's attributes if they were interpolated (not when a
+// cached colour was reused).
 Shaded shadeRecord(const ShadingContext& c, const VisibilityRecord& r, ShadingRate rate,
-                   PixelShadeCache& cache) {
+                   PixelShading& cache, std::optional<SurfaceAttributes>* interpolated = nullptr) {
     if (rate == ShadingRate::PerPixelPrimitive) {
         for (const auto& e : cache.entries) {
             if (e.patch == r.patch && e.triangle == r.triangle) {
@@ -47,17 +71,21 @@ Shaded shadeRecord(const ShadingContext& c, const VisibilityRecord& r, ShadingRa
         }
     }
     const SurfaceAttributes a = interpolateAttributes(c, r);
+    if (interpolated) *interpolated = a;
+    if (cache.shadedPerPatch) cache.shadedPerPatch[r.patch] += 1;
     const Shaded s{shadeFragment(c, a, r.time), a.opacity};
     if (rate == ShadingRate::PerPixelPrimitive)
         cache.entries.push_back({r.patch, r.triangle, s.color, s.opacity});
     return s;
 }
 
+// `frontAttributes`, when given, gets the opaque hit's attributes if shading interpolated them.
 Vec3 shadeSample(const ShadingContext& c, const VisibilityBuffer& opaque,
                  const TransparentLayers* layers, int x, int y, int s, ShadingRate rate,
-                 PixelShadeCache& cache) {
+                 PixelShading& cache, std::optional<SurfaceAttributes>* frontAttributes = nullptr) {
     const VisibilityRecord& front = opaque.at(x, y, s);
-    Vec3 color = front.hit() ? shadeRecord(c, front, rate, cache).color : kBackground;
+    Vec3 color =
+        front.hit() ? shadeRecord(c, front, rate, cache, frontAttributes).color : kBackground;
     if (!layers) return color;
     const std::size_t index = opaque.index(x, y, s);
     const int n = layers->count(index);
@@ -81,15 +109,56 @@ Vec3 shadeSample(const ShadingContext& c, const VisibilityBuffer& opaque,
     return color;
 }
 
-}  // namespace
+// One pixel's AOVs, accumulated sample by sample in sample order.
+struct PixelAovs {
+    float depth = 0, motionX = 0, motionY = 0;
+    int hits = 0, covered = 0;
 
-std::vector<float> shadeSamples(const ShadingContext& c, const VisibilityBuffer& opaque,
-                                const TransparentLayers* transparent, ShadingRate rate, int threads,
-                                Progress* progress) {
+    // Sample s; `front` is its opaque hit's attributes when they are at hand.
+    void add(const ShadingContext& c, const VisibilityBuffer& opaque,
+             const TransparentLayers* transparent, int x, int y, int s,
+             const std::optional<SurfaceAttributes>& front) {
+        const VisibilityRecord& r = opaque.at(x, y, s);
+        const bool layered = transparent && transparent->count(opaque.index(x, y, s)) > 0;
+        covered += r.hit() || layered;
+        if (!r.hit()) return;
+        ++hits;
+        depth += r.depth;
+        const SurfaceAttributes a = front ? *front : interpolateAttributes(c, r);
+        Vec2 r0, r1;
+        if (c.camera->cameraToRaster(a.cameraPosition0, r0) &&
+            c.camera->cameraToRaster(a.cameraPosition1, r1)) {
+            motionX += r1.x - r0.x;
+            motionY += r1.y - r0.y;
+        }
+    }
+
+    void store(ResolvedFrame& frame, std::size_t pixel, int spp) const {
+        frame.coverage[pixel] = float(covered) / float(spp);
+        if (hits == 0) return;
+        frame.depth[pixel] = depth / float(hits);
+        frame.motionX[pixel] = motionX / float(hits);
+        frame.motionY[pixel] = motionY / float(hits);
+    }
+};
+
+void allocateAovs(ResolvedFrame& frame, const VisibilityBuffer& opaque) {
+    const std::size_t pixels = std::size_t(opaque.width()) * std::size_t(opaque.height());
+    frame.depth.assign(pixels, 0.0f);
+    frame.coverage.assign(pixels, 0.0f);
+    frame.motionX.assign(pixels, 0.0f);
+    frame.motionY.assign(pixels, 0.0f);
+}
+
+// Every sample's colour; `work`, when given, counts the fragments shaded.
+std::vector<float> shadeEverySample(const ShadingContext& c, const VisibilityBuffer& opaque,
+                                    const TransparentLayers* transparent, ShadingRate rate,
+                                    int threads, Progress* progress, ShadingWork* work) {
     const int spp = opaque.samplesPerPixel();
     std::vector<float> colors(opaque.records().size() * 3);
-    parallelFor(std::size_t(opaque.height()), threads, [&](int, std::size_t row) {
-        PixelShadeCache cache;
+    parallelFor(std::size_t(opaque.height()), threads, [&](int w, std::size_t row) {
+        PixelShading cache;
+        if (work) cache.shadedPerPatch = work->of(w);
         const int y = int(row);
         for (int x = 0; x < opaque.width(); ++x) {
             cache.entries.clear();
@@ -105,6 +174,14 @@ std::vector<float> shadeSamples(const ShadingContext& c, const VisibilityBuffer&
         if (progress) progress->advance();
     });
     return colors;
+}
+
+}  // namespace
+
+std::vector<float> shadeSamples(const ShadingContext& c, const VisibilityBuffer& opaque,
+                                const TransparentLayers* transparent, ShadingRate rate, int threads,
+                                Progress* progress) {
+    return shadeEverySample(c, opaque, transparent, rate, threads, progress, nullptr);
 }
 
 Image filterSamples(const std::vector<float>& colors, const VisibilityBuffer& layout,
@@ -145,31 +222,37 @@ Image filterSamples(const std::vector<float>& colors, const VisibilityBuffer& la
 
 namespace {
 
-// The box filter fused with shading: each pixel's samples shaded and averaged in one pass, with
-// filterSamples's arithmetic, and no per-sample colour buffer.
-Image shadeAndAverage(const ShadingContext& c, const VisibilityBuffer& opaque,
-                      const TransparentLayers* transparent, ShadingRate rate, int threads,
-                      Progress* progress) {
+// The box filter fused with shading and the AOVs: each pixel's samples shaded and averaged in
+// one pass, with filterSamples's arithmetic and no per-sample colour buffer; the AOVs reuse the
+// attributes shading interpolated for each opaque hit.
+void shadeAverageAndAovs(const ShadingContext& c, const VisibilityBuffer& opaque,
+                         const TransparentLayers* transparent, ShadingRate rate, int threads,
+                         Progress* progress, ShadingWork& work, ResolvedFrame& frame) {
     const int spp = opaque.samplesPerPixel();
-    Image image(opaque.width(), opaque.height());
-    parallelFor(std::size_t(opaque.height()), threads, [&](int, std::size_t row) {
-        PixelShadeCache cache;
+    frame.color = Image(opaque.width(), opaque.height());
+    allocateAovs(frame, opaque);
+    parallelFor(std::size_t(opaque.height()), threads, [&](int w, std::size_t row) {
+        PixelShading cache;
+        cache.shadedPerPatch = work.of(w);
         const int y = int(row);
         for (int x = 0; x < opaque.width(); ++x) {
             cache.entries.clear();
             Vec3 sum(0);
             float weights = 0;
+            PixelAovs aovs;
             for (int s = 0; s < spp; ++s) {
                 const float weight = 1.0f;
-                sum += weight * shadeSample(c, opaque, transparent, x, y, s, rate, cache);
+                std::optional<SurfaceAttributes> front;
+                sum += weight * shadeSample(c, opaque, transparent, x, y, s, rate, cache, &front);
                 weights += weight;
+                aovs.add(c, opaque, transparent, x, y, s, front);
             }
-            image.set(x, y, weights > 0 ? sum / weights : Vec3(0));
+            frame.color.set(x, y, weights > 0 ? sum / weights : Vec3(0));
+            aovs.store(frame, std::size_t(y) * std::size_t(opaque.width()) + std::size_t(x), spp);
         }
         omSamplesResolved += std::int64_t(opaque.width()) * spp;
         if (progress) progress->advance();
     });
-    return image;
 }
 
 }  // namespace
@@ -178,87 +261,28 @@ ResolvedFrame resolveFrame(const ShadingContext& c, const VisibilityBuffer& opaq
                            const TransparentLayers* transparent, const SampleGenerator& samples,
                            const ResolveOptions& options, int threads, Progress* progress) {
     ResolvedFrame frame;
-    if (options.filter == ResolveFilter::Box)
-        frame.color =
-            shadeAndAverage(c, opaque, transparent, options.shadingRate, threads, progress);
-    else
+    ShadingWork work(c.patches->size(), threads);
+    if (options.filter == ResolveFilter::Box) {
+        shadeAverageAndAovs(c, opaque, transparent, options.shadingRate, threads, progress, work,
+                            frame);
+    } else {
         frame.color = filterSamples(
-            shadeSamples(c, opaque, transparent, options.shadingRate, threads, progress), opaque,
-            samples, options, threads);
-    const std::size_t pixels = std::size_t(opaque.width()) * std::size_t(opaque.height());
-    frame.depth.assign(pixels, 0.0f);
-    frame.coverage.assign(pixels, 0.0f);
-    frame.motionX.assign(pixels, 0.0f);
-    frame.motionY.assign(pixels, 0.0f);
-    const int spp = opaque.samplesPerPixel();
-    parallelFor(std::size_t(opaque.height()), threads, [&](int, std::size_t row) {
-        const int y = int(row);
-        for (int x = 0; x < opaque.width(); ++x) {
-            const std::size_t p = std::size_t(y) * std::size_t(opaque.width()) + std::size_t(x);
-            int hits = 0, covered = 0;
-            for (int s = 0; s < spp; ++s) {
-                const VisibilityRecord& r = opaque.at(x, y, s);
-                const bool layered = transparent && transparent->count(opaque.index(x, y, s)) > 0;
-                covered += r.hit() || layered;
-                if (!r.hit()) continue;
-                ++hits;
-                frame.depth[p] += r.depth;
-                const SurfaceAttributes a = interpolateAttributes(c, r);
-                Vec2 r0, r1;
-                if (c.camera->cameraToRaster(a.cameraPosition0, r0) &&
-                    c.camera->cameraToRaster(a.cameraPosition1, r1)) {
-                    frame.motionX[p] += r1.x - r0.x;
-                    frame.motionY[p] += r1.y - r0.y;
-                }
+            shadeEverySample(c, opaque, transparent, options.shadingRate, threads, progress, &work),
+            opaque, samples, options, threads);
+        allocateAovs(frame, opaque);
+        parallelFor(std::size_t(opaque.height()), threads, [&](int, std::size_t row) {
+            const int y = int(row);
+            for (int x = 0; x < opaque.width(); ++x) {
+                PixelAovs aovs;
+                for (int s = 0; s < opaque.samplesPerPixel(); ++s)
+                    aovs.add(c, opaque, transparent, x, y, s, std::nullopt);
+                aovs.store(frame, std::size_t(y) * std::size_t(opaque.width()) + std::size_t(x),
+                           opaque.samplesPerPixel());
             }
-            frame.coverage[p] = float(covered) / float(spp);
-            if (hits > 0) {
-                frame.depth[p] /= float(hits);
-                frame.motionX[p] /= float(hits);
-                frame.motionY[p] /= float(hits);
-            }
-        }
-    });
+        });
+    }
+    frame.shadedPerPatch = work.total();
     return frame;
-}
-
-std::vector<double> shadingWorkPerPatch(const VisibilityBuffer& opaque,
-                                        const TransparentLayers* transparent, ShadingRate rate,
-                                        std::size_t patchCount, int threads) {
-    // Counts per worker, summed after: whole numbers, so the sum is exact in any order.
-    const int workers = std::max(1, std::min(resolveThreadCount(threads), opaque.height()));
-    std::vector<std::vector<double>> counts(std::size_t(workers),
-                                            std::vector<double>(patchCount, 0.0));
-    parallelFor(std::size_t(opaque.height()), workers, [&](int w, std::size_t row) {
-        std::vector<double>& work = counts[std::size_t(w)];
-        std::vector<std::pair<std::int32_t, std::uint32_t>> seen;  // per pixel, for the reuse rate
-        const int y = int(row);
-        for (int x = 0; x < opaque.width(); ++x) {
-            seen.clear();
-            auto charge = [&](const VisibilityRecord& r) {
-                if (rate == ShadingRate::PerPixelPrimitive) {
-                    const std::pair<std::int32_t, std::uint32_t> key{r.patch, r.triangle};
-                    if (std::find(seen.begin(), seen.end(), key) != seen.end()) return;
-                    seen.push_back(key);
-                }
-                work[std::size_t(r.patch)] += 1;
-            };
-            for (int s = 0; s < opaque.samplesPerPixel(); ++s) {
-                const VisibilityRecord& front = opaque.at(x, y, s);
-                if (front.hit()) charge(front);
-                if (!transparent) continue;
-                const std::size_t i = opaque.index(x, y, s);
-                for (int k = 0; k < transparent->count(i); ++k) {
-                    const VisibilityRecord& r = transparent->layers(i)[k].record;
-                    if (!front.hit() || r.nearerThan(front)) charge(r);
-                }
-            }
-        }
-    });
-    std::vector<double> work(patchCount, 0.0);
-    for (const std::vector<double>& c : counts)
-        for (std::size_t i = 0; i < patchCount; ++i) work[i] += c[i];
-    return work;
 }
 
 void writeExrWithAovs(const ResolvedFrame& frame, const std::string& path) {

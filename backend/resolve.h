@@ -29,6 +29,9 @@ struct ResolvedFrame {
     // Per pixel: mean depth of the samples with an opaque hit (0 if none), fraction of samples
     // with any hit, and the mean screen motion (pixels, t=0 to t=1) of the opaque hits.
     std::vector<float> depth, coverage, motionX, motionY;
+    // Per patch: the pixel-shader invocations it caused in the resolve (its visible t-fragments,
+    // or its distinct pixel-triangle pairs at the per-pixel-primitive rate), for the timing model.
+    std::vector<double> shadedPerPatch;
 };
 
 // Per-sample colours (3 floats per sample, sample-major like VisibilityBuffer) after blending.
@@ -47,12 +50,6 @@ ResolvedFrame resolveFrame(const ShadingContext& context, const VisibilityBuffer
                            const TransparentLayers* transparent, const SampleGenerator& samples,
                            const ResolveOptions& options, int threads,
                            class Progress* progress = nullptr);
-
-// Pixel-shader invocations each patch causes in the final frame (its visible t-fragments, or its
-// distinct pixel-triangle pairs at the per-pixel-primitive rate), for the timing model.
-std::vector<double> shadingWorkPerPatch(const VisibilityBuffer& opaque,
-                                        const TransparentLayers* transparent, ShadingRate rate,
-                                        std::size_t patchCount, int threads = 1);
 
 // EXR with channels R, G, B, Z, coverage, motion.x, motion.y (linear float).
 void writeExrWithAovs(const ResolvedFrame& frame, const std::string& path);

@@ -440,9 +440,7 @@ RenderResult renderScene(const SceneDesc& scene, const RenderOptions& options) {
     }
     approximate.flush();
     result.shadingSeconds = secondsSince(start);
-    result.patchOps = collectPatchOps(
-        fe.patches, shadingWorkPerPatch(*result.visibility, result.transparent.get(),
-                                        options.resolve.shadingRate, result.patches, workers));
+    result.patchOps = collectPatchOps(fe.patches, result.frame.shadedPerPatch);
     for (std::size_t i = 0; i < result.patches; ++i)
         for (int op = 0; op < kOpCount; ++op)
             if (stageOf(Op(op)) == Stage::RS || op == int(Op::DepthTests) ||
