@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <glm/gtc/matrix_transform.hpp>
@@ -158,6 +159,45 @@ TEST(Resolve, PerPixelPrimitiveShadingReusesColours) {
     EXPECT_EQ(perFragment[ps.reused], 0);
     EXPECT_GT(perPixel[ps.reused], 0);
     EXPECT_EQ(perPixel[ps.invocations] + perPixel[ps.reused], perFragment[ps.invocations]);
+}
+
+// The box filter makes the AOVs and counts the shading work in its shading pass, the Gaussian in
+// passes of their own: the same AOVs bit for bit, and per patch the same pixel-shader invocations,
+// which add up to the PS counter, on one thread and on two, at both shading rates. The opaque
+// torus moves too, so its hits have motion vectors.
+TEST(Resolve, FusedBoxPassGivesTheAovsAndShadingWorkOfSeparatePasses) {
+    SceneDesc scene = readSceneFile(test::sourcePath("scenes/transparency.json"));
+    scene.film = {64, 48, 8, 5};
+    scene.objects[0].close.translate += Vec3(0.5f, 0.0f, 0.0f);
+    for (ShadingRate rate : {ShadingRate::PerFragment, ShadingRate::PerPixelPrimitive}) {
+        std::vector<RenderResult> results;
+        for (ResolveFilter filter : {ResolveFilter::Box, ResolveFilter::Gaussian})
+            for (int threads : {1, 2}) {
+                RenderOptions options;
+                options.threads = threads;
+                options.resolve.shadingRate = rate;
+                options.resolve.filter = filter;
+                CounterRegistry::instance().reset();
+                results.push_back(renderScene(scene, options));
+                const std::vector<double>& shaded = results.back().frame.shadedPerPatch;
+                ASSERT_EQ(shaded.size(), results.back().patches);
+                double total = 0;
+                for (double n : shaded) total += n;
+                EXPECT_GT(total, 0);
+                EXPECT_EQ(std::int64_t(total),
+                          CounterRegistry::instance().snapshot()[shadingCounters().invocations]);
+            }
+        const ResolvedFrame& box = results.front().frame;
+        EXPECT_TRUE(
+            std::any_of(box.motionX.begin(), box.motionX.end(), [](float m) { return m != 0.0f; }));
+        for (const RenderResult& r : results) {
+            EXPECT_EQ(r.frame.shadedPerPatch, box.shadedPerPatch);
+            EXPECT_EQ(r.frame.depth, box.depth);
+            EXPECT_EQ(r.frame.coverage, box.coverage);
+            EXPECT_EQ(r.frame.motionX, box.motionX);
+            EXPECT_EQ(r.frame.motionY, box.motionY);
+        }
+    }
 }
 
 // Nothing moves but the material changes over the shutter: samples need times, and each pixel is
