@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <optional>
 
 #include "pipeline/core/counters.h"
 #include "pipeline/core/parallel.h"
@@ -58,10 +57,16 @@ struct Shaded {
     float opacity;
 };
 
-// `interpolated`, when given, gets the record's attributes if they were interpolated (not when a
-// cached colour was reused).
+// A sample's opaque hit's attributes, when shading interpolated them (not when it reused a
+// cached colour), for the AOVs.
+struct FrontAttributes {
+    bool known = false;
+    SurfaceAttributes value{};
+};
+
+// `interpolated`, when given, gets the record's attributes if they were interpolated.
 Shaded shadeRecord(const ShadingContext& c, const VisibilityRecord& r, ShadingRate rate,
-                   PixelShading& cache, std::optional<SurfaceAttributes>* interpolated = nullptr) {
+                   PixelShading& cache, FrontAttributes* interpolated = nullptr) {
     if (rate == ShadingRate::PerPixelPrimitive) {
         for (const auto& e : cache.entries) {
             if (e.patch == r.patch && e.triangle == r.triangle) {
@@ -71,7 +76,7 @@ Shaded shadeRecord(const ShadingContext& c, const VisibilityRecord& r, ShadingRa
         }
     }
     const SurfaceAttributes a = interpolateAttributes(c, r);
-    if (interpolated) *interpolated = a;
+    if (interpolated) *interpolated = {true, a};
     if (cache.shadedPerPatch) cache.shadedPerPatch[r.patch] += 1;
     const Shaded s{shadeFragment(c, a, r.time), a.opacity};
     if (rate == ShadingRate::PerPixelPrimitive)
@@ -82,7 +87,7 @@ Shaded shadeRecord(const ShadingContext& c, const VisibilityRecord& r, ShadingRa
 // `frontAttributes`, when given, gets the opaque hit's attributes if shading interpolated them.
 Vec3 shadeSample(const ShadingContext& c, const VisibilityBuffer& opaque,
                  const TransparentLayers* layers, int x, int y, int s, ShadingRate rate,
-                 PixelShading& cache, std::optional<SurfaceAttributes>* frontAttributes = nullptr) {
+                 PixelShading& cache, FrontAttributes* frontAttributes = nullptr) {
     const VisibilityRecord& front = opaque.at(x, y, s);
     Vec3 color =
         front.hit() ? shadeRecord(c, front, rate, cache, frontAttributes).color : kBackground;
@@ -117,14 +122,14 @@ struct PixelAovs {
     // Sample s; `front` is its opaque hit's attributes when they are at hand.
     void add(const ShadingContext& c, const VisibilityBuffer& opaque,
              const TransparentLayers* transparent, int x, int y, int s,
-             const std::optional<SurfaceAttributes>& front) {
+             const FrontAttributes& front) {
         const VisibilityRecord& r = opaque.at(x, y, s);
         const bool layered = transparent && transparent->count(opaque.index(x, y, s)) > 0;
         covered += r.hit() || layered;
         if (!r.hit()) return;
         ++hits;
         depth += r.depth;
-        const SurfaceAttributes a = front ? *front : interpolateAttributes(c, r);
+        const SurfaceAttributes a = front.known ? front.value : interpolateAttributes(c, r);
         Vec2 r0, r1;
         if (c.camera->cameraToRaster(a.cameraPosition0, r0) &&
             c.camera->cameraToRaster(a.cameraPosition1, r1)) {
@@ -242,7 +247,7 @@ void shadeAverageAndAovs(const ShadingContext& c, const VisibilityBuffer& opaque
             PixelAovs aovs;
             for (int s = 0; s < spp; ++s) {
                 const float weight = 1.0f;
-                std::optional<SurfaceAttributes> front;
+                FrontAttributes front;
                 sum += weight * shadeSample(c, opaque, transparent, x, y, s, rate, cache, &front);
                 weights += weight;
                 aovs.add(c, opaque, transparent, x, y, s, front);
@@ -275,7 +280,7 @@ ResolvedFrame resolveFrame(const ShadingContext& c, const VisibilityBuffer& opaq
             for (int x = 0; x < opaque.width(); ++x) {
                 PixelAovs aovs;
                 for (int s = 0; s < opaque.samplesPerPixel(); ++s)
-                    aovs.add(c, opaque, transparent, x, y, s, std::nullopt);
+                    aovs.add(c, opaque, transparent, x, y, s, FrontAttributes{});
                 aovs.store(frame, std::size_t(y) * std::size_t(opaque.width()) + std::size_t(x),
                            opaque.samplesPerPixel());
             }
