@@ -119,17 +119,17 @@ struct PixelAovs {
     float depth = 0, motionX = 0, motionY = 0;
     int hits = 0, covered = 0;
 
-    // Sample s; `front` is its opaque hit's attributes when they are at hand.
+    // Sample s; `front` is its opaque hit's attributes when they are at hand, else null.
     void add(const ShadingContext& c, const VisibilityBuffer& opaque,
              const TransparentLayers* transparent, int x, int y, int s,
-             const FrontAttributes& front) {
+             const SurfaceAttributes* front) {
         const VisibilityRecord& r = opaque.at(x, y, s);
         const bool layered = transparent && transparent->count(opaque.index(x, y, s)) > 0;
         covered += r.hit() || layered;
         if (!r.hit()) return;
         ++hits;
         depth += r.depth;
-        const SurfaceAttributes a = front.known ? front.value : interpolateAttributes(c, r);
+        const SurfaceAttributes a = front ? *front : interpolateAttributes(c, r);
         Vec2 r0, r1;
         if (c.camera->cameraToRaster(a.cameraPosition0, r0) &&
             c.camera->cameraToRaster(a.cameraPosition1, r1)) {
@@ -250,7 +250,7 @@ void shadeAverageAndAovs(const ShadingContext& c, const VisibilityBuffer& opaque
                 FrontAttributes front;
                 sum += weight * shadeSample(c, opaque, transparent, x, y, s, rate, cache, &front);
                 weights += weight;
-                aovs.add(c, opaque, transparent, x, y, s, front);
+                aovs.add(c, opaque, transparent, x, y, s, front.known ? &front.value : nullptr);
             }
             frame.color.set(x, y, weights > 0 ? sum / weights : Vec3(0));
             aovs.store(frame, std::size_t(y) * std::size_t(opaque.width()) + std::size_t(x), spp);
@@ -280,7 +280,7 @@ ResolvedFrame resolveFrame(const ShadingContext& c, const VisibilityBuffer& opaq
             for (int x = 0; x < opaque.width(); ++x) {
                 PixelAovs aovs;
                 for (int s = 0; s < opaque.samplesPerPixel(); ++s)
-                    aovs.add(c, opaque, transparent, x, y, s, FrontAttributes{});
+                    aovs.add(c, opaque, transparent, x, y, s, nullptr);
                 aovs.store(frame, std::size_t(y) * std::size_t(opaque.width()) + std::size_t(x),
                            opaque.samplesPerPixel());
             }
