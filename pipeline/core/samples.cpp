@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "pipeline/core/parallel.h"
+#include "pipeline/core/sample_kernel.h"
 
 namespace patchsim {
 
@@ -127,23 +128,36 @@ Sample SampleGenerator::sample(int x, int y, int index) const {
     return sampleOf(pixelStreams(x, y), index);
 }
 
+PixelSampleRecipe SampleGenerator::kernelRecipe() const {
+    PixelSampleRecipe recipe;
+    recipe.count = count_.divisor();
+    recipe.permutationMask = permutationMask_;
+    recipe.gridSide = std::uint32_t(gridSide_);
+    recipe.jitter = pattern_ != SamplePattern::Grid;
+    recipe.timeSamples = effects_.timeSamples();
+    recipe.lensSamples = effects_.defocus;
+    // As sampleOf: grid times and lens coordinates reach both ends of [0, 1].
+    recipe.spread =
+        recipe.jitter ? float(recipe.count) : float(std::max<std::uint32_t>(recipe.count - 1, 1));
+    recipe.stillTime = stillTime_;
+    return recipe;
+}
+
 void SampleGenerator::pixelSamples(int x, int y, Sample* out) const {
-    const PixelStreams streams = pixelStreams(x, y);
-    for (int s = 0; s < spp_; ++s) out[s] = sampleOf(streams, s);
+    if (spp_ < 1) return;
+    makePixelSamples(kernelRecipe(), pixelStreams(x, y).dimension, out);
 }
 
 Vec2 concentricDisk(const Vec2& u) {
     const Vec2 o = 2.0f * u - Vec2(1.0f);
     if (o.x == 0 && o.y == 0) return Vec2(0);
     constexpr float kPiOver4 = 0.78539816339f;
-    float r, theta;
-    if (std::abs(o.x) > std::abs(o.y)) {
-        r = o.x;
-        theta = kPiOver4 * (o.y / o.x);
-    } else {
-        r = o.y;
-        theta = 2 * kPiOver4 - kPiOver4 * (o.x / o.y);
-    }
+    // Which axis is wider is a coin toss per sample: selects, not branches, with the same
+    // operations on each side.
+    const bool xWider = std::abs(o.x) > std::abs(o.y);
+    const float r = xWider ? o.x : o.y;
+    const float ratio = (xWider ? o.y : o.x) / r;
+    const float theta = xWider ? kPiOver4 * ratio : 2 * kPiOver4 - kPiOver4 * ratio;
     return r * Vec2(std::cos(theta), std::sin(theta));
 }
 

@@ -20,6 +20,8 @@
 
 namespace patchsim {
 
+struct PixelSampleRecipe;  // sample_kernel.h
+
 struct Sample {
     Vec2 pixelOffset;  // in [0,1)^2 within the pixel
     Vec2 lens;         // in [0,1)^2; (0.5, 0.5) is the lens centre
@@ -47,6 +49,11 @@ class SampleGenerator {
     void pixelSamples(int x, int y, Sample* out) const;
     int samplesPerPixel() const { return spp_; }
     const Effects& effects() const { return effects_; }
+    // Index i's place in the key's random permutation of [0, samplesPerPixel()): the stratum
+    // a sample takes in one dimension.
+    std::uint32_t permute(std::uint32_t i, std::uint32_t key) const;
+    // What the vector kernel that makes pixelSamples needs of this generator.
+    PixelSampleRecipe kernelRecipe() const;
 
   private:
     struct PixelStreams {
@@ -54,7 +61,6 @@ class SampleGenerator {
     };
     PixelStreams pixelStreams(int x, int y) const;
     Sample sampleOf(const PixelStreams& streams, int index) const;
-    std::uint32_t permute(std::uint32_t i, std::uint32_t key) const;
 
     std::uint64_t seed_;
     int spp_;
