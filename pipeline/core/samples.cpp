@@ -152,12 +152,14 @@ Vec2 concentricDisk(const Vec2& u) {
     const Vec2 o = 2.0f * u - Vec2(1.0f);
     if (o.x == 0 && o.y == 0) return Vec2(0);
     constexpr float kPiOver4 = 0.78539816339f;
-    // Which axis is wider is a coin toss per sample: selects, not branches, with the same
-    // operations on each side.
-    const bool xWider = std::abs(o.x) > std::abs(o.y);
-    const float r = xWider ? o.x : o.y;
-    const float ratio = (xWider ? o.y : o.x) / r;
-    const float theta = xWider ? kPiOver4 * ratio : 2 * kPiOver4 - kPiOver4 * ratio;
+    float r, theta;
+    if (std::abs(o.x) > std::abs(o.y)) {
+        r = o.x;
+        theta = kPiOver4 * (o.y / o.x);
+    } else {
+        r = o.y;
+        theta = 2 * kPiOver4 - kPiOver4 * (o.x / o.y);
+    }
     return r * Vec2(std::cos(theta), std::sin(theta));
 }
 
