@@ -24,6 +24,9 @@ using V32 = hn::Vec<D32>;
 using VF = hn::Vec<DF>;
 
 constexpr std::size_t kMaxSampleLanes = hn::MaxLanes(D64{});
+alignas(64) constexpr std::uint32_t kLaneNumbers[16] = {0, 1, 2,  3,  4,  5,  6,  7,
+                                                        8, 9, 10, 11, 12, 13, 14, 15};
+static_assert(kMaxSampleLanes <= 16);
 
 // mix64 (samples.cpp), lane by lane.
 HWY_INLINE V64 mixLanes(V64 x) {
@@ -154,8 +157,9 @@ class PixelKernel {
     const PixelSampleRecipe& recipe_;
     const std::uint64_t* streams_;
     FixedDivisor count_;
-    // 0, 1, 2, ... made once: Highway's Iota goes through memory.
-    const V32 laneNumbers_ = hn::Iota(d32_, 0);
+    // 0, 1, 2, ... loaded from a constant: Highway's Iota stores the lanes one by one and loads
+    // them back as a vector, which the store buffer cannot forward.
+    const V32 laneNumbers_ = hn::Load(d32_, kLaneNumbers);
 };
 
 void MakePixelSamplesImpl(const PixelSampleRecipe& recipe, const std::uint64_t* streams,
