@@ -44,8 +44,9 @@ class SampleGenerator {
                     SamplePattern pattern = SamplePattern::Stratified, float stillTime = 0.0f);
 
     Sample sample(int x, int y, int index) const;
-    // All `samplesPerPixel()` samples of pixel (x, y), equal to sample(x, y, 0..): the pixel's hash
-    // streams are made once for all of them.
+    // All `samplesPerPixel()` samples of pixel (x, y), equal to sample(x, y, 0..) bit for bit: the
+    // pixel's hash streams are made once for all of them, and the samples several at a time by
+    // the SIMD kernel of sample_kernel.h.
     void pixelSamples(int x, int y, Sample* out) const;
     int samplesPerPixel() const { return spp_; }
     const Effects& effects() const { return effects_; }
