@@ -9,6 +9,8 @@
 #include <cstdio>
 #include <vector>
 
+#include "pipeline/core/samples.h"
+
 namespace patchsim {
 namespace {
 
@@ -86,7 +88,7 @@ TEST(SampleKernel, PermutationsAgreeWhereTheOffsetWraps) {
         hwy::SetSupportedTargetsForTest(target);
         for (int n : {1, 2, 3, 5, 7, 8, 16, 17, 100, 257}) {
             const SampleGenerator g(5, n, Effects{});
-            const PixelSampleRecipe recipe = g.kernelRecipe();
+            const PixelSampleRecipe& recipe = g.kernelRecipe();
             made.assign(std::size_t(n), 0);
             const auto count = std::uint32_t(n);
             for (std::uint32_t below = 0; below <= count + 1; ++below)

@@ -9,6 +9,8 @@
 
 #include <algorithm>
 
+#include "pipeline/core/samples.h"
+
 HWY_BEFORE_NAMESPACE();
 namespace patchsim {
 namespace HWY_NAMESPACE {

@@ -15,11 +15,12 @@
 
 #include <cstdint>
 
-#include "pipeline/core/samples.h"
-
 namespace patchsim {
 
-// What a SampleGenerator fixes for all its pixels, as the kernel needs it.
+struct Sample;  // samples.h
+
+// What a SampleGenerator fixes for all its pixels, as the kernel needs it (made once, with the
+// generator).
 struct PixelSampleRecipe {
     std::uint32_t count = 1;            // samples per pixel, n (at least 1)
     std::uint32_t permutationMask = 0;  // the smallest all-ones mask covering [0, n)

@@ -4,7 +4,6 @@
 #include <cmath>
 
 #include "pipeline/core/parallel.h"
-#include "pipeline/core/sample_kernel.h"
 
 namespace patchsim {
 
@@ -41,23 +40,29 @@ SampleGenerator::SampleGenerator(std::uint64_t seed, int samplesPerPixel, const 
       spp_(samplesPerPixel),
       // A count below 1 makes no samples; the divisor must still not be 0.
       count_(std::uint32_t(std::max(samplesPerPixel, 1))),
-      permutationMask_(maskCovering(count_.divisor())),
-      gridSide_(0),
       gridDivisor_(1),
       effects_(effects),
-      pattern_(pattern),
-      stillTime_(stillTime) {
+      pattern_(pattern) {
+    recipe_.count = count_.divisor();
+    recipe_.permutationMask = maskCovering(count_.divisor());
     const int side = int(std::lround(std::sqrt(double(samplesPerPixel))));
     if (side * side == samplesPerPixel) {
-        gridSide_ = side;
+        recipe_.gridSide = std::uint32_t(side);
         gridDivisor_ = FixedDivisor(std::uint32_t(side));
     }
+    recipe_.jitter = pattern != SamplePattern::Grid;
+    recipe_.timeSamples = effects.timeSamples();
+    recipe_.lensSamples = effects.defocus;
+    // Grid times and lens coordinates reach both ends of [0, 1].
+    recipe_.spread = recipe_.jitter ? float(recipe_.count)
+                                    : float(std::max<std::uint32_t>(recipe_.count - 1, 1));
+    recipe_.stillTime = stillTime;
 }
 
 // A random permutation of [0, n) evaluated at one index (cycle-walking hash permutation of
 // Kensler's "Correlated multi-jittered sampling").
 std::uint32_t SampleGenerator::permute(std::uint32_t i, std::uint32_t key) const {
-    const std::uint32_t w = permutationMask_;
+    const std::uint32_t w = recipe_.permutationMask;
     do {
         i ^= key;
         i *= 0xe170893d;
@@ -104,16 +109,16 @@ Sample SampleGenerator::sampleOf(const PixelStreams& p, int index) const {
         return float(permute(i, std::uint32_t(p.dimension[dimension] >> 32)));
     };
     Sample s;
-    if (gridSide_ > 0) {
+    if (recipe_.gridSide > 0) {
         const std::uint32_t cell = permute(i, std::uint32_t(p.dimension[1]));
-        s.pixelOffset = {(float(gridDivisor_.remainder(cell)) + jitter(2)) / float(gridSide_),
-                         (float(gridDivisor_.quotient(cell)) + jitter(3)) / float(gridSide_)};
+        const float side = float(recipe_.gridSide);
+        s.pixelOffset = {(float(gridDivisor_.remainder(cell)) + jitter(2)) / side,
+                         (float(gridDivisor_.quotient(cell)) + jitter(3)) / side};
     } else {
         s.pixelOffset = {(stratum(4) + jitter(2)) / float(n), (stratum(5) + jitter(3)) / float(n)};
     }
-    // Grid times and lens coordinates reach both ends of [0, 1].
-    const float spread = grid ? float(std::max<std::uint32_t>(n - 1, 1)) : float(n);
-    s.time = effects_.timeSamples() ? (stratum(6) + jitter(7)) / spread : stillTime_;
+    const float spread = recipe_.spread;
+    s.time = effects_.timeSamples() ? (stratum(6) + jitter(7)) / spread : recipe_.stillTime;
     s.lens = effects_.defocus
                  ? Vec2((stratum(8) + jitter(9)) / spread, (stratum(10) + jitter(11)) / spread)
                  : Vec2(0.5f, 0.5f);
@@ -126,21 +131,6 @@ Sample SampleGenerator::sampleOf(const PixelStreams& p, int index) const {
 
 Sample SampleGenerator::sample(int x, int y, int index) const {
     return sampleOf(pixelStreams(x, y), index);
-}
-
-PixelSampleRecipe SampleGenerator::kernelRecipe() const {
-    PixelSampleRecipe recipe;
-    recipe.count = count_.divisor();
-    recipe.permutationMask = permutationMask_;
-    recipe.gridSide = std::uint32_t(gridSide_);
-    recipe.jitter = pattern_ != SamplePattern::Grid;
-    recipe.timeSamples = effects_.timeSamples();
-    recipe.lensSamples = effects_.defocus;
-    // As sampleOf: grid times and lens coordinates reach both ends of [0, 1].
-    recipe.spread =
-        recipe.jitter ? float(recipe.count) : float(std::max<std::uint32_t>(recipe.count - 1, 1));
-    recipe.stillTime = stillTime_;
-    return recipe;
 }
 
 void SampleGenerator::pixelSamples(int x, int y, Sample* out) const {

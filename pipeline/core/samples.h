@@ -17,10 +17,9 @@
 #include "pipeline/core/effects.h"
 #include "pipeline/core/fixed_divisor.h"
 #include "pipeline/core/math.h"
+#include "pipeline/core/sample_kernel.h"
 
 namespace patchsim {
-
-struct PixelSampleRecipe;  // sample_kernel.h
 
 struct Sample {
     Vec2 pixelOffset;  // in [0,1)^2 within the pixel
@@ -54,7 +53,7 @@ class SampleGenerator {
     // a sample takes in one dimension.
     std::uint32_t permute(std::uint32_t i, std::uint32_t key) const;
     // What the vector kernel that makes pixelSamples needs of this generator.
-    PixelSampleRecipe kernelRecipe() const;
+    const PixelSampleRecipe& kernelRecipe() const { return recipe_; }
 
   private:
     struct PixelStreams {
@@ -65,13 +64,13 @@ class SampleGenerator {
 
     std::uint64_t seed_;
     int spp_;
-    FixedDivisor count_;             // by spp
-    std::uint32_t permutationMask_;  // the smallest all-ones mask covering [0, spp)
-    int gridSide_;                   // > 0 when spp is a perfect square
-    FixedDivisor gridDivisor_;       // by gridSide_ (by 1 when there is none)
+    FixedDivisor count_;        // by spp
+    FixedDivisor gridDivisor_;  // by the grid's side (by 1 when there is none)
     Effects effects_;
     SamplePattern pattern_;
-    float stillTime_;
+    // The permutation mask, the grid's side (> 0 when spp is a perfect square), the time and lens
+    // strata's divisor and the still time, which the scalar sampler reads too.
+    PixelSampleRecipe recipe_;
 };
 
 // Shirley-Chiu concentric map of [0,1)^2 to the unit disk.
