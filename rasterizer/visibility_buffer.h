@@ -16,7 +16,9 @@
 #include <memory>
 #include <new>
 #include <span>
+#include <type_traits>
 
+#include "pipeline/core/frame_memory.h"
 #include "pipeline/core/math.h"
 
 namespace patchsim {
@@ -38,6 +40,7 @@ struct VisibilityRecord {
 };
 
 static_assert(sizeof(VisibilityRecord) == 32, "the film's memory budget counts 32 bytes a sample");
+static_assert(std::is_trivially_destructible_v<VisibilityRecord>);
 
 class VisibilityBuffer {
   public:
@@ -52,28 +55,26 @@ class VisibilityBuffer {
         return (std::size_t(y) * std::size_t(width_) + std::size_t(x)) * std::size_t(spp_) +
                std::size_t(s);
     }
-    const VisibilityRecord& at(int x, int y, int s) const { return records_[index(x, y, s)]; }
-    VisibilityRecord& at(int x, int y, int s) { return records_[index(x, y, s)]; }
+    const VisibilityRecord& at(int x, int y, int s) const { return data()[index(x, y, s)]; }
+    VisibilityRecord& at(int x, int y, int s) { return data()[index(x, y, s)]; }
     // Current depth bound for z culling: the record's depth, or the far plane before any hit.
-    float depthBound(int x, int y, int s) const { return depthBound(records_[index(x, y, s)]); }
+    float depthBound(int x, int y, int s) const { return depthBound(data()[index(x, y, s)]); }
     float depthBound(const VisibilityRecord& r) const { return r.depth < far_ ? r.depth : far_; }
     void offer(int x, int y, int s, const VisibilityRecord& hit) {
-        VisibilityRecord& r = records_[index(x, y, s)];
+        VisibilityRecord& r = data()[index(x, y, s)];
         if (hit.nearerThan(r)) r = hit;
     }
-    std::span<const VisibilityRecord> records() const { return {records_.get(), size_}; }
-    std::span<VisibilityRecord> mutableRecords() { return {records_.get(), size_}; }
+    std::span<const VisibilityRecord> records() const { return {data(), size_}; }
+    std::span<VisibilityRecord> mutableRecords() { return {data(), size_}; }
 
   private:
-    // Records live in raw storage the constructor's workers construct them in.
-    static VisibilityRecord* allocate(std::size_t records);
-    struct Release {
-        void operator()(VisibilityRecord* p) const { ::operator delete[](p); }
-    };
+    // Records live in frame memory (huge pages where offered) the constructor's workers construct
+    // them in; VisibilityRecord is trivially destructible, so releasing the memory ends them.
+    VisibilityRecord* data() const { return static_cast<VisibilityRecord*>(memory_.get()); }
     int width_, height_, spp_;
     float far_;
     std::size_t size_;
-    std::unique_ptr<VisibilityRecord[], Release> records_;
+    std::unique_ptr<void, FrameMemoryRelease> memory_;
 };
 
 }  // namespace patchsim

@@ -1,0 +1,96 @@
+#include "pipeline/core/frame_memory.h"
+
+#include <gtest/gtest.h>
+
+#include <cstdint>
+#include <cstdlib>
+#include <cstring>
+#include <string>
+
+#include "rasterizer/visibility_buffer.h"
+
+#if defined(__linux__)
+#include <sys/resource.h>
+#endif
+
+namespace patchsim {
+namespace {
+
+std::uintptr_t address(const void* p) {
+    return reinterpret_cast<std::uintptr_t>(p);
+}
+
+TEST(FrameMemory, SmallBuffersAreCacheLineAlignedAndUsable) {
+    for (const std::size_t bytes : {std::size_t(0), std::size_t(1), std::size_t(4096)}) {
+        const auto memory = allocateFrameMemory(bytes);
+        ASSERT_NE(memory, nullptr);
+        EXPECT_EQ(address(memory.get()) % 64, 0u) << bytes << " bytes";
+        EXPECT_FALSE(frameMemoryAdvisesHugePages(bytes));
+        std::memset(memory.get(), 0xab, bytes == 0 ? 1 : bytes);
+    }
+}
+
+TEST(FrameMemory, LargeBuffersStartOnAHugePageWhereHugePagesAreAdvised) {
+    const std::size_t bytes = 3 * kHugePageBytes + 17;
+    const auto memory = allocateFrameMemory(bytes);
+    ASSERT_NE(memory, nullptr);
+    const std::size_t alignment = frameMemoryAdvisesHugePages(bytes) ? kHugePageBytes : 64;
+    EXPECT_EQ(address(memory.get()) % alignment, 0u);
+    auto* bytesView = static_cast<unsigned char*>(memory.get());
+    bytesView[0] = 1;
+    bytesView[bytes - 1] = 2;
+    EXPECT_EQ(bytesView[0] + bytesView[bytes - 1], 3);
+}
+
+#if defined(__linux__)
+long minorFaults() {
+    rusage usage{};
+    getrusage(RUSAGE_SELF, &usage);
+    return usage.ru_minflt;
+}
+
+// What the huge pages are for: first touching a frame's buffer should not cost a fault per 4 KiB.
+TEST(FrameMemory, FirstTouchOfALargeBufferFaultsOncePerHugePageNotPerSmallPage) {
+    constexpr std::size_t kBytes = std::size_t(64) << 20;
+    if (!frameMemoryAdvisesHugePages(kBytes))
+        GTEST_SKIP() << "transparent huge pages are switched off on this host";
+    const auto memory = allocateFrameMemory(kBytes);
+    const long before = minorFaults();
+    std::memset(memory.get(), 0, kBytes);
+    const long faults = minorFaults() - before;
+    constexpr long kSmallPages = long(kBytes / 4096);
+    // 32 huge pages; allow the kernel to fall back to small pages for a quarter of the buffer
+    // (fragmented memory) before calling the advice ineffective.
+    RecordProperty("faults", int(faults));
+    EXPECT_LT(faults, kSmallPages / 4) << faults << " faults for " << kSmallPages << " small pages";
+}
+#endif
+
+// Run by the ctest entry FrameMemoryWithHugePagesOff, which sets PATCHSIM_HUGE_PAGES=off.
+TEST(FrameMemory, TheEnvironmentSwitchesHugePagesOff) {
+    const char* choice = std::getenv("PATCHSIM_HUGE_PAGES");
+    if (!choice || std::string(choice) != "off")
+        GTEST_SKIP() << "runs with PATCHSIM_HUGE_PAGES=off (ctest: FrameMemoryWithHugePagesOff)";
+    EXPECT_FALSE(frameMemoryAdvisesHugePages(std::size_t(64) << 20));
+    const auto memory = allocateFrameMemory(std::size_t(3) << 20);
+    EXPECT_EQ(address(memory.get()) % 64, 0u);
+}
+
+TEST(FrameMemory, TheVisibilityBufferStartsEmptyInFrameMemory) {
+    const VisibilityBuffer buffer(97, 61, 9, 100.0f, 2);  // 1.7 MB: not a whole number of chunks
+    ASSERT_EQ(buffer.records().size(), std::size_t(97 * 61 * 9));
+    EXPECT_EQ(address(buffer.records().data()) % 64, 0u);
+    for (const VisibilityRecord& r : buffer.records()) {
+        ASSERT_FALSE(r.hit());
+        ASSERT_EQ(r.depth, std::numeric_limits<float>::infinity());
+    }
+    const VisibilityBuffer large(320, 240, 16, 100.0f, 2);  // 39 MB: the default film
+    EXPECT_EQ(address(large.records().data()) %
+                  (frameMemoryAdvisesHugePages(large.records().size_bytes()) ? kHugePageBytes : 64),
+              0u);
+    for (const VisibilityRecord& r : large.records()) ASSERT_FALSE(r.hit());
+    EXPECT_EQ(large.depthBound(319, 239, 15), 100.0f);
+}
+
+}  // namespace
+}  // namespace patchsim
