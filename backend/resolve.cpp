@@ -58,10 +58,11 @@ struct Shaded {
 };
 
 // A sample's opaque hit's attributes, when shading interpolated them (not when it reused a
-// cached colour), for the AOVs.
+// cached colour), for the AOVs. One per worker, reused sample after sample: shading interpolates
+// into `value` in place, so the attributes are neither copied nor cleared per sample.
 struct FrontAttributes {
     bool known = false;
-    SurfaceAttributes value{};
+    SurfaceAttributes value;
 };
 
 // `interpolated`, when given, gets the record's attributes if they were interpolated.
@@ -75,8 +76,10 @@ Shaded shadeRecord(const ShadingContext& c, const VisibilityRecord& r, ShadingRa
             }
         }
     }
-    const SurfaceAttributes a = interpolateAttributes(c, r);
-    if (interpolated) *interpolated = {true, a};
+    SurfaceAttributes local;
+    SurfaceAttributes& a = interpolated ? interpolated->value : local;
+    interpolateAttributes(c, r, a);
+    if (interpolated) interpolated->known = true;
     if (cache.shadedPerPatch) cache.shadedPerPatch[r.patch] += 1;
     const Shaded s{shadeFragment(c, a, r.time), a.opacity};
     if (rate == ShadingRate::PerPixelPrimitive)
@@ -84,22 +87,16 @@ Shaded shadeRecord(const ShadingContext& c, const VisibilityRecord& r, ShadingRa
     return s;
 }
 
-// `frontAttributes`, when given, gets the opaque hit's attributes if shading interpolated them.
-Vec3 shadeSample(const ShadingContext& c, const VisibilityBuffer& opaque,
-                 const TransparentLayers* layers, int x, int y, int s, ShadingRate rate,
-                 PixelShading& cache, FrontAttributes* frontAttributes = nullptr) {
-    const VisibilityRecord& front = opaque.at(x, y, s);
-    Vec3 color =
-        front.hit() ? shadeRecord(c, front, rate, cache, frontAttributes).color : kBackground;
-    if (!layers) return color;
-    const std::size_t index = opaque.index(x, y, s);
-    const int n = layers->count(index);
-    if (n == 0) return color;
-    // Back to front: the farthest first. Fragments behind the opaque surface are hidden.
+// The transparent layers of sample `index` blended over `color`, back to front; layers behind the
+// opaque hit `front` are hidden. Kept out of line: its sort buffer is a 9 KiB stack frame, which
+// the opaque path should not set up for every sample.
+[[gnu::noinline]] Vec3 blendLayers(const ShadingContext& c, const VisibilityRecord& front,
+                                   const TransparentLayers& layers, std::size_t index, int n,
+                                   Vec3 color, ShadingRate rate, PixelShading& cache) {
     LayerFragment sorted[256];
     int kept = 0;
     for (int i = 0; i < n; ++i) {
-        const LayerFragment& f = layers->layers(index)[i];
+        const LayerFragment& f = layers.layers(index)[i];
         if (front.hit() && !f.record.nearerThan(front)) continue;
         sorted[kept++] = f;
     }
@@ -112,6 +109,20 @@ Vec3 shadeSample(const ShadingContext& c, const VisibilityBuffer& opaque,
     }
     omLayersBlended += kept;
     return color;
+}
+
+// `frontAttributes`, when given, gets the opaque hit's attributes if shading interpolated them.
+Vec3 shadeSample(const ShadingContext& c, const VisibilityBuffer& opaque,
+                 const TransparentLayers* layers, int x, int y, int s, ShadingRate rate,
+                 PixelShading& cache, FrontAttributes* frontAttributes = nullptr) {
+    const VisibilityRecord& front = opaque.at(x, y, s);
+    const Vec3 color =
+        front.hit() ? shadeRecord(c, front, rate, cache, frontAttributes).color : kBackground;
+    if (!layers) return color;
+    const std::size_t index = opaque.index(x, y, s);
+    const int n = layers->count(index);
+    if (n == 0) return color;
+    return blendLayers(c, front, *layers, index, n, color, rate, cache);
 }
 
 // One pixel's AOVs, accumulated sample by sample in sample order.
@@ -239,6 +250,7 @@ void shadeAverageAndAovs(const ShadingContext& c, const VisibilityBuffer& opaque
     parallelFor(std::size_t(opaque.height()), threads, [&](int w, std::size_t row) {
         PixelShading cache;
         cache.shadedPerPatch = work.of(w);
+        FrontAttributes front;
         const int y = int(row);
         for (int x = 0; x < opaque.width(); ++x) {
             cache.entries.clear();
@@ -247,7 +259,7 @@ void shadeAverageAndAovs(const ShadingContext& c, const VisibilityBuffer& opaque
             PixelAovs aovs;
             for (int s = 0; s < spp; ++s) {
                 const float weight = 1.0f;
-                FrontAttributes front;
+                front.known = false;
                 sum += weight * shadeSample(c, opaque, transparent, x, y, s, rate, cache, &front);
                 weights += weight;
                 aovs.add(c, opaque, transparent, x, y, s, front.known ? &front.value : nullptr);

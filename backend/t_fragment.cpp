@@ -29,12 +29,18 @@ const char* shadingRateName(ShadingRate r) {
 }
 
 SurfaceAttributes interpolateAttributes(const ShadingContext& c, const VisibilityRecord& r) {
+    SurfaceAttributes a;
+    interpolateAttributes(c, r, a);
+    return a;
+}
+
+void interpolateAttributes(const ShadingContext& c, const VisibilityRecord& r,
+                           SurfaceAttributes& a) {
     const float time = r.time;
     const TessellatedPatch& patch = (*c.patches)[std::size_t(r.patch)];
     const MovingMesh& mesh = (*c.meshes)[std::size_t(r.patch)];
     const std::uint32_t* v = &patch.tessellation.indices[3 * std::size_t(r.triangle)];
     const float w[3] = {1.0f - r.b1 - r.b2, r.b1, r.b2};
-    SurfaceAttributes a;
     a.normal = a.cameraPosition0 = a.cameraPosition1 = Vec3(0);
     a.surfaceUV = a.domainUV = Vec2(0);
     for (int k = 0; k < 3; ++k) {
@@ -49,7 +55,6 @@ SurfaceAttributes interpolateAttributes(const ShadingContext& c, const Visibilit
     a.color = lerp(m.color, m.closeColor, time);
     a.opacity = (1.0f - time) * m.opacity + time * m.closeOpacity;
     a.unlit = m.unlit;
-    return a;
 }
 
 Vec3 shadeFragment(const ShadingContext& c, const SurfaceAttributes& a, float time) {

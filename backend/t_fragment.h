@@ -49,6 +49,9 @@ struct SurfaceAttributes {
 // At the record's own time.
 SurfaceAttributes interpolateAttributes(const ShadingContext& context,
                                         const VisibilityRecord& record);
+// The same, written into `attributes` (every field), for callers that keep them: no copy.
+void interpolateAttributes(const ShadingContext& context, const VisibilityRecord& record,
+                           SurfaceAttributes& attributes);
 
 // Lambert with an ambient term and a checker on the surface (u,v); unlit materials give their
 // colour. Counts one PS invocation.
