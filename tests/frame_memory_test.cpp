@@ -54,6 +54,9 @@ TEST(FrameMemory, FirstTouchOfALargeBufferFaultsOncePerHugePageNotPerSmallPage) 
     constexpr std::size_t kBytes = std::size_t(64) << 20;
     if (!frameMemoryAdvisesHugePages(kBytes))
         GTEST_SKIP() << "transparent huge pages are switched off on this host";
+#if defined(__SANITIZE_ADDRESS__)
+    GTEST_SKIP() << "AddressSanitizer's shadow memory takes page faults of its own";
+#endif
     const auto memory = allocateFrameMemory(kBytes);
     const long before = minorFaults();
     std::memset(memory.get(), 0, kBytes);

@@ -4,12 +4,12 @@
 //
 // Why: a buffer that large is a fresh mapping every frame, and touching it the first time costs
 // one page fault per 4 KiB page: about 9,600 faults for the default film. On a virtual machine
-// each fault is a trap to the hypervisor, and the faults took about a third of a one-thread
-// render (docs/PERFORMANCE.md, "Frame memory in huge pages"). Aligning the buffer to 2 MiB and
-// advising transparent huge pages (Linux's madvise(MADV_HUGEPAGE)) cuts the faults 512-fold.
-// Where the advice is not available, or PATCHSIM_HUGE_PAGES=off is set in the environment, the
-// memory is ordinary pages, and nothing else changes: the contents are the caller's to construct
-// either way.
+// each fault can be a trap to the hypervisor: on the AMD guest of docs/PERFORMANCE.md ("Frame
+// memory in huge pages") the faults took two fifths of a one-thread render. Aligning the buffer to
+// 2 MiB and advising transparent huge pages (Linux's madvise(MADV_HUGEPAGE)) cuts the faults
+// 512-fold. Where the advice is not available, or PATCHSIM_HUGE_PAGES=off is set in the
+// environment, the memory is ordinary pages, and nothing else changes: the contents are the
+// caller's to construct either way.
 
 #include <cstddef>
 #include <memory>
