@@ -29,7 +29,7 @@ float linearToSrgb(float v) {
 }
 
 void writeFloatChannels(const std::string& path, int width, int height,
-                        const std::vector<std::string>& names, const std::vector<float>& pixels) {
+                        const std::vector<std::string>& names, std::span<const float> pixels) {
     OIIO::ImageSpec spec(width, height, int(names.size()), OIIO::TypeDesc::FLOAT);
     spec.channelnames = names;
     for (std::size_t c = 0; c < names.size(); ++c)

@@ -85,7 +85,7 @@ double ssim(const Image& image, const Image& reference) {
     return windows ? sum / windows : 1.0;
 }
 
-double meanAbsoluteDifference(const std::vector<float>& a, const std::vector<float>& b) {
+double meanAbsoluteDifference(std::span<const float> a, std::span<const float> b) {
     if (a.size() != b.size()) throw std::invalid_argument("image metrics: AOVs of different sizes");
     double sum = 0;
     for (std::size_t i = 0; i < a.size(); ++i) sum += std::abs(double(a[i]) - b[i]);

@@ -11,6 +11,7 @@
 // - Coverage error: the mean absolute difference of the coverage AOV (fraction of a pixel's
 //   samples that hit something).
 
+#include <span>
 #include <vector>
 
 #include "backend/image.h"
@@ -24,6 +25,6 @@ struct ImageError {
 double rmse(const Image& image, const Image& reference);
 double psnr(const Image& image, const Image& reference);
 double ssim(const Image& image, const Image& reference);
-double meanAbsoluteDifference(const std::vector<float>& a, const std::vector<float>& b);
+double meanAbsoluteDifference(std::span<const float> a, std::span<const float> b);
 
 }  // namespace patchsim

@@ -149,21 +149,21 @@ struct PixelAovs {
         }
     }
 
+    // Writes all four planes: they start unwritten (allocateAovs).
     void store(ResolvedFrame& frame, std::size_t pixel, int spp) const {
         frame.coverage[pixel] = float(covered) / float(spp);
-        if (hits == 0) return;
-        frame.depth[pixel] = depth / float(hits);
-        frame.motionX[pixel] = motionX / float(hits);
-        frame.motionY[pixel] = motionY / float(hits);
+        frame.depth[pixel] = hits == 0 ? 0.0f : depth / float(hits);
+        frame.motionX[pixel] = hits == 0 ? 0.0f : motionX / float(hits);
+        frame.motionY[pixel] = hits == 0 ? 0.0f : motionY / float(hits);
     }
 };
 
+// The AOV planes, unwritten: each pixel's PixelAovs::store fills them on the worker that owns
+// its row, so their pages are first touched there.
 void allocateAovs(ResolvedFrame& frame, const VisibilityBuffer& opaque) {
     const std::size_t pixels = std::size_t(opaque.width()) * std::size_t(opaque.height());
-    frame.depth.assign(pixels, 0.0f);
-    frame.coverage.assign(pixels, 0.0f);
-    frame.motionX.assign(pixels, 0.0f);
-    frame.motionY.assign(pixels, 0.0f);
+    for (FloatPlane* plane : {&frame.depth, &frame.coverage, &frame.motionX, &frame.motionY})
+        *plane = FloatPlane(pixels);
 }
 
 // Every sample's colour; `work`, when given, counts the fragments shaded.
@@ -203,7 +203,7 @@ std::vector<float> shadeSamples(const ShadingContext& c, const VisibilityBuffer&
 Image filterSamples(const std::vector<float>& colors, const VisibilityBuffer& layout,
                     const SampleGenerator& samples, const ResolveOptions& options, int threads) {
     const int w = layout.width(), h = layout.height(), spp = layout.samplesPerPixel();
-    Image image(w, h);
+    Image image = Image::unfilled(w, h);  // every pixel set below
     const int reach =
         options.filter == ResolveFilter::Box ? 0 : int(std::ceil(options.gaussianRadius - 0.5f));
     parallelFor(std::size_t(h), threads, [&](int, std::size_t row) {
@@ -245,7 +245,7 @@ void shadeAverageAndAovs(const ShadingContext& c, const VisibilityBuffer& opaque
                          const TransparentLayers* transparent, ShadingRate rate, int threads,
                          Progress* progress, ShadingWork& work, ResolvedFrame& frame) {
     const int spp = opaque.samplesPerPixel();
-    frame.color = Image(opaque.width(), opaque.height());
+    frame.color = Image::unfilled(opaque.width(), opaque.height());
     allocateAovs(frame, opaque);
     parallelFor(std::size_t(opaque.height()), threads, [&](int w, std::size_t row) {
         PixelShading cache;

@@ -28,7 +28,7 @@ struct ResolvedFrame {
     Image color;
     // Per pixel: mean depth of the samples with an opaque hit (0 if none), fraction of samples
     // with any hit, and the mean screen motion (pixels, t=0 to t=1) of the opaque hits.
-    std::vector<float> depth, coverage, motionX, motionY;
+    FloatPlane depth, coverage, motionX, motionY;
     // Per patch: the pixel-shader invocations it caused in the resolve (its visible t-fragments,
     // or its distinct pixel-triangle pairs at the per-pixel-primitive rate), for the timing model.
     std::vector<double> shadedPerPatch;

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <random>
+#include <vector>
 
 namespace patchsim {
 namespace {
@@ -75,7 +76,8 @@ TEST(ImageMetrics, SsimFallsWithNoise) {
 }
 
 TEST(ImageMetrics, CoverageErrorIsTheMeanAbsoluteDifference) {
-    EXPECT_DOUBLE_EQ(meanAbsoluteDifference({0, 0.5f, 1, 1}, {0, 1, 0.75f, 1}), 0.1875);
+    const std::vector<float> a{0, 0.5f, 1, 1}, b{0, 1, 0.75f, 1};
+    EXPECT_DOUBLE_EQ(meanAbsoluteDifference(a, b), 0.1875);
 }
 
 }  // namespace

@@ -90,7 +90,7 @@ TEST(TFragment, MotionDisoccludesAndTheHierarchiesHoldEveryTFragment) {
 
 TEST(TFragment, ImagesAndCountersDoNotDependOnTheThreadCount) {
     const SceneDesc scene = small("scenes/motion_defocus.json", 48, 36, 2);
-    std::vector<float> image[2];
+    FloatPlane image[2];
     std::map<std::string, std::int64_t> counts[2];
     for (int threads : {1, 2}) {
         CounterRegistry::instance().reset();
