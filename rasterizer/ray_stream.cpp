@@ -545,15 +545,21 @@ class Pass {
             found = hn::Or(found, take);
         }
         if (hn::AllFalse(d_, found)) return;
-        Candidate best{fetch(d_, rays_.bestDepth, at), fetch(di_, rays_.bestPatch, at),
-                       fetch(du_, rays_.bestTriangle, at), fetch(d_, rays_.bestB1, at),
-                       fetch(d_, rays_.bestB2, at)};
-        const MF improved = hn::And(found, nearerThan(leafBest, best));
-        best = select(improved, leafBest, best);
-        const VF depth = best.depth, b1 = best.b1, b2 = best.b2;
-        const VI patch = best.patch;
-        const VU triangle = best.triangle;
+        // nearerThan(leafBest, the sample's nearest so far): the depths decide unless they are
+        // equal, so the nearest's patch and triangle are read only for such ties, and its
+        // barycentrics never (an improved sample takes all of leafBest's).
+        const VF bestDepth = fetch(d_, rays_.bestDepth, at);
+        MF improved = hn::And(found, hn::Lt(leafBest.depth, bestDepth));
+        const MF tied = hn::And(found, hn::Eq(leafBest.depth, bestDepth));
+        if (!hn::AllFalse(d_, tied)) {
+            const Candidate best{bestDepth, fetch(di_, rays_.bestPatch, at),
+                                 fetch(du_, rays_.bestTriangle, at), hn::Zero(d_), hn::Zero(d_)};
+            improved = hn::Or(improved, hn::And(tied, nearerThan(leafBest, best)));
+        }
         if (hn::AllFalse(d_, improved)) return;
+        const VF depth = leafBest.depth, b1 = leafBest.b1, b2 = leafBest.b2;
+        const VI patch = leafBest.patch;
+        const VU triangle = leafBest.triangle;
         alignas(64) std::int32_t lanes[kMaxLanes], patches[kMaxLanes];
         alignas(64) std::uint32_t triangleLanes[kMaxLanes];
         alignas(64) float depths[kMaxLanes], b1s[kMaxLanes], b2s[kMaxLanes], ends[kMaxLanes];
