@@ -1,8 +1,9 @@
 #pragma once
 // Runs work items on a fixed number of threads. Idle workers take the next item (dynamic
 // scheduling, so uneven items keep every thread busy); each item's result lands in its own slot,
-// and every worker flushes its counters when it is done: results and counters do not depend on
-// the thread count or on which worker ran which item.
+// and every worker's counts reach the registry (the started workers flush when they are done,
+// the calling thread at its next snapshot): results and counters do not depend on the thread
+// count or on which worker ran which item.
 
 #include <algorithm>
 #include <atomic>
