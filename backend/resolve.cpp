@@ -152,9 +152,13 @@ struct PixelAovs {
     // Writes all four planes: they start unwritten (allocateAovs).
     void store(ResolvedFrame& frame, std::size_t pixel, int spp) const {
         frame.coverage[pixel] = float(covered) / float(spp);
-        frame.depth[pixel] = hits == 0 ? 0.0f : depth / float(hits);
-        frame.motionX[pixel] = hits == 0 ? 0.0f : motionX / float(hits);
-        frame.motionY[pixel] = hits == 0 ? 0.0f : motionY / float(hits);
+        if (hits == 0) {
+            frame.depth[pixel] = frame.motionX[pixel] = frame.motionY[pixel] = 0.0f;
+            return;
+        }
+        frame.depth[pixel] = depth / float(hits);
+        frame.motionX[pixel] = motionX / float(hits);
+        frame.motionY[pixel] = motionY / float(hits);
     }
 };
 

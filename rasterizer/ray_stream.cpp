@@ -557,18 +557,15 @@ class Pass {
             improved = hn::Or(improved, hn::And(tied, nearerThan(leafBest, best)));
         }
         if (hn::AllFalse(d_, improved)) return;
-        const VF depth = leafBest.depth, b1 = leafBest.b1, b2 = leafBest.b2;
-        const VI patch = leafBest.patch;
-        const VU triangle = leafBest.triangle;
         alignas(64) std::int32_t lanes[kMaxLanes], patches[kMaxLanes];
         alignas(64) std::uint32_t triangleLanes[kMaxLanes];
         alignas(64) float depths[kMaxLanes], b1s[kMaxLanes], b2s[kMaxLanes], ends[kMaxLanes];
         hn::Store(index, di_, lanes);
-        hn::Store(patch, di_, patches);
-        hn::Store(triangle, du_, triangleLanes);
-        hn::Store(depth, d_, depths);
-        hn::Store(b1, d_, b1s);
-        hn::Store(b2, d_, b2s);
+        hn::Store(leafBest.patch, di_, patches);
+        hn::Store(leafBest.triangle, du_, triangleLanes);
+        hn::Store(leafBest.depth, d_, depths);
+        hn::Store(leafBest.b1, d_, b1s);
+        hn::Store(leafBest.b2, d_, b2s);
         hn::Store(r.end, d_, ends);
         for (std::uint16_t rest = bitsOf(d_, improved); rest; rest &= std::uint16_t(rest - 1)) {
             const int lane = std::countr_zero(rest);

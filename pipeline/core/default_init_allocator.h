@@ -16,17 +16,15 @@
 
 namespace patchsim {
 
-template <class T, class Base = std::allocator<T>>
-class DefaultInitAllocator : public Base {
-    using Traits = std::allocator_traits<Base>;
-
+template <class T>
+class DefaultInitAllocator : public std::allocator<T> {
   public:
     template <class U>
     struct rebind {
-        using other = DefaultInitAllocator<U, typename Traits::template rebind_alloc<U>>;
+        using other = DefaultInitAllocator<U>;
     };
 
-    using Base::Base;
+    using std::allocator<T>::allocator;
 
     template <class U>
     void construct(U* p) noexcept(std::is_nothrow_default_constructible_v<U>) {
@@ -34,7 +32,7 @@ class DefaultInitAllocator : public Base {
     }
     template <class U, class... Args>
     void construct(U* p, Args&&... args) {
-        Traits::construct(static_cast<Base&>(*this), p, std::forward<Args>(args)...);
+        ::new (static_cast<void*>(p)) U(std::forward<Args>(args)...);
     }
 };
 
