@@ -70,12 +70,21 @@ struct TriangleHits {
     VF lambda, b1, b2;
 };
 
+// A vector of rays' box-test data as a ray list carries it (TileRays::RayList).
+struct ListedRays {
+    VF time, inverseX, inverseY, c0, c1;
+};
+
+using RayList = TileRays::RayList;
+
 // One pass of one group over one tile (ray_stream.h). kEveryHit: a transparent mesh, every hit
 // goes to the layers. kCount: per-sample work is kept for heat maps.
 //
-// The rays at each level of the descent are a list of sample indices (TileRays::levelList), packed
-// by vector compression, so every vector of rays tested against a box is full however few rays
-// reach that box; the rays' data is loaded where the indices are consecutive, else gathered.
+// The rays at each level of the descent are a list (TileRays::levelList): sample indices and the
+// box test's data, packed by vector compression, so every vector of rays tested against a box is
+// full however few rays reach that box, and loads its data instead of gathering it. What the list
+// does not carry (the ray end, the triangle test's data) is loaded where the indices are
+// consecutive, else gathered.
 template <bool kEveryHit, bool kCount>
 class Pass {
   public:
@@ -98,7 +107,10 @@ class Pass {
             rays_.passImproved()[b] = 0;
         std::int64_t tested = 0;
         const int n = startRays(times_[start], first, last, start, tested);
-        if (n > 0) descend(start, rays_.levelList(1, 0), n, 1);
+        if (n > 0) {
+            const RayList level1 = rays_.levelList(1, 0);
+            descend(start, level1, n, 1);
+        }
         work_.samplesTested += tested;
         work_.samplesRejectedTime += std::int64_t(rays_.count()) - tested;
         work_.raysCast += tested;
@@ -134,7 +146,7 @@ class Pass {
         const VF farEnd = hn::Set(d_, rayEndAtDepth(rays_.farDepth(), rays_.depthPerLambda()));
         const VI firstIndex = hn::Set(di_, first), lastIndex = hn::Set(di_, last);
         const LBBox& box = h_.node(start);
-        std::int32_t* out = rays_.levelList(1, 0);
+        const RayList out = rays_.levelList(1, 0);
         int count = 0;
         for (int at = first / lanes_ * lanes_; at < last; at += lanes_) {
             const VI index = hn::Add(hn::Iota(di_, 0), hn::Set(di_, at));
@@ -158,11 +170,13 @@ class Pass {
                 addWork(SampleWork::Rays, index, m, 1);
                 addWork(SampleWork::BoxTests, index, m, 1);
             }
-            MF hit = hn::And(
-                m, hitsBox(box, SlabLanes<false>::contiguous(d_, rays_, t, std::size_t(at))));
+            const ListedRays data{
+                t, hn::Load(d_, rays_.inverseX + at), hn::Load(d_, rays_.inverseY + at),
+                hn::Load(d_, rays_.slabC[0] + at), hn::Load(d_, rays_.slabC[1] + at)};
+            const VF end = hn::Load(d_, rays_.rayEnd + at);
+            MF hit = hn::And(m, hitsBox(box, SlabLanes<false>::of(d_, rays_, data, end)));
             if (rays_.anyParallel()) hit = parallelLanes(box, index, m, hit);
-            hn::StoreU(hn::Compress(index, hn::RebindMask(di_, hit)), di_, out + count);
-            count += int(hn::CountTrue(d_, hit));
+            count = append(out, count, hit, index, data);
         }
         boxTests_ += tested;
         return count;
@@ -174,6 +188,24 @@ class Pass {
         valid = hn::FirstN(d_, std::size_t(std::min(lanes_, n - i)));
         return {hn::IfThenElseZero(hn::RebindMask(di_, valid), hn::LoadU(di_, list + i)), list[i],
                 full && list[i + lanes_ - 1] - list[i] == lanes_ - 1};
+    }
+
+    ListedRays listedAt(const RayList& list, int i) const {
+        return {hn::LoadU(d_, list.time + i), hn::LoadU(d_, list.inverseX + i),
+                hn::LoadU(d_, list.inverseY + i), hn::LoadU(d_, list.slabC[0] + i),
+                hn::LoadU(d_, list.slabC[1] + i)};
+    }
+
+    // Appends the lanes `keep` of a vector of rays to `out`, which holds `count`; returns the new
+    // count. Every array has room for a whole vector past its end.
+    int append(const RayList& out, int count, MF keep, VI index, const ListedRays& r) const {
+        hn::StoreU(hn::Compress(index, hn::RebindMask(di_, keep)), di_, out.index + count);
+        hn::StoreU(hn::Compress(r.time, keep), d_, out.time + count);
+        hn::StoreU(hn::Compress(r.inverseX, keep), d_, out.inverseX + count);
+        hn::StoreU(hn::Compress(r.inverseY, keep), d_, out.inverseY + count);
+        hn::StoreU(hn::Compress(r.c0, keep), d_, out.slabC[0] + count);
+        hn::StoreU(hn::Compress(r.c1, keep), d_, out.slabC[1] + count);
+        return count + int(hn::CountTrue(d_, keep));
     }
 
     void addWork(SampleWork what, VI index, MF m, std::uint32_t amount) {
@@ -190,10 +222,10 @@ class Pass {
     template <bool kStill>
     struct SlabLanes {
         VF a[3], b[3], c[2], end;
-        static SlabLanes of(DF d, const TileRays& r, VF t, VF inverseX, VF inverseY, VF c0, VF c1,
-                            VF end) {
+        static SlabLanes of(DF d, const TileRays& r, const ListedRays& rays, VF end) {
             SlabLanes s;
-            const VF inverse[3] = {inverseX, inverseY, hn::Set(d, r.inverseZ())};
+            const VF t = rays.time;
+            const VF inverse[3] = {rays.inverseX, rays.inverseY, hn::Set(d, r.inverseZ())};
             if constexpr (kStill) {
                 for (int k = 0; k < 3; ++k) s.a[k] = inverse[k];  // (1 - 0) / d, to the bit
             } else {
@@ -203,19 +235,10 @@ class Pass {
                     s.b[k] = hn::Mul(t, inverse[k]);
                 }
             }
-            s.c[0] = c0;
-            s.c[1] = c1;
+            s.c[0] = rays.c0;
+            s.c[1] = rays.c1;
             s.end = end;
             return s;
-        }
-        static SlabLanes contiguous(DF d, const TileRays& r, VF t, std::size_t at) {
-            return of(d, r, t, hn::Load(d, r.inverseX + at), hn::Load(d, r.inverseY + at),
-                      hn::Load(d, r.slabC[0] + at), hn::Load(d, r.slabC[1] + at),
-                      hn::Load(d, r.rayEnd + at));
-        }
-        static SlabLanes fetched(DF d, const TileRays& r, VF t, const Indices& at) {
-            return of(d, r, t, fetch(d, r.inverseX, at), fetch(d, r.inverseY, at),
-                      fetch(d, r.slabC[0], at), fetch(d, r.slabC[1], at), fetch(d, r.rayEnd, at));
         }
     };
 
@@ -223,19 +246,21 @@ class Pass {
     struct ChildTest {
         const LBBox* box;
         VF lower, upper;
-        std::int32_t* out;
+        RayList out;
         int count = 0;
     };
 
-    ChildTest childTest(int node, std::int32_t* out) const {
+    ChildTest childTest(int node, const RayList& out) const {
         const TimeRange range = times_[node];
         return {&h_.node(node), hn::Set(d_, range.lower), hn::Set(d_, range.upper), out};
     }
 
-    // One vector of rays (`index`, `valid`, data `s` at times `t`) against one child: those whose
-    // time is in its range and that meet its box are appended to its list.
+    // One vector of rays (`index`, `valid`, `rays`, their slab constants `s`) against one child:
+    // those whose time is in its range and that meet its box are appended to its list.
     template <bool kStill>
-    void testChild(ChildTest& c, VI index, MF valid, VF t, const SlabLanes<kStill>& s) {
+    void testChild(ChildTest& c, VI index, MF valid, const ListedRays& rays,
+                   const SlabLanes<kStill>& s) {
+        const VF t = rays.time;
         const MF active = hn::And(valid, hn::And(hn::Ge(t, c.lower), hn::Le(t, c.upper)));
         const std::size_t tests = hn::CountTrue(d_, active);
         if (tests == 0) return;
@@ -243,20 +268,19 @@ class Pass {
         if (kCount) addWork(SampleWork::BoxTests, index, active, 1);
         MF hit = hn::And(active, hitsBox(*c.box, s));
         if (rays_.anyParallel()) hit = parallelLanes(*c.box, index, active, hit);
-        hn::StoreU(hn::Compress(index, hn::RebindMask(di_, hit)), di_, c.out + c.count);
-        c.count += int(hn::CountTrue(d_, hit));
+        c.count = append(c.out, c.count, hit, index, rays);
     }
 
-    // The rays of `in` (n of them) against the live ones of `children` (1 or 2): each ray's data
-    // is gathered once for both boxes.
+    // The rays of `in` (n of them) against the live ones of `children` (1 or 2): each vector's
+    // data is loaded once for both boxes.
     template <bool kStill>
-    void filter(const std::int32_t* in, int n, ChildTest* children, int count) {
+    void filter(const RayList& in, int n, ChildTest* children, int count) {
         for (int i = 0; i < n; i += lanes_) {
             MF valid;
-            const Indices at = indicesAt(in, i, n, valid);
-            const VF t = fetch(d_, rays_.time, at);
-            const auto s = SlabLanes<kStill>::fetched(d_, rays_, t, at);
-            for (int c = 0; c < count; ++c) testChild(children[c], at.index, valid, t, s);
+            const Indices at = indicesAt(in.index, i, n, valid);
+            const ListedRays rays = listedAt(in, i);
+            const auto s = SlabLanes<kStill>::of(d_, rays_, rays, fetch(d_, rays_.rayEnd, at));
+            for (int c = 0; c < count; ++c) testChild(children[c], at.index, valid, rays, s);
         }
     }
 
@@ -306,7 +330,7 @@ class Pass {
 
     // The rays of `in` (n of them, at `level`) met `node`: both children are tested together,
     // then visited nearer first; only children a leaf of which overlaps the tile.
-    void descend(int node, const std::int32_t* in, int n, int level) {
+    void descend(int node, const RayList& in, int n, int level) {
         if (h_.isLeaf(node)) {
             leaf(node, in, n);
             return;
@@ -332,12 +356,14 @@ class Pass {
             if (tests[c].count > 0) descend(nodes[c], tests[c].out, tests[c].count, level + 1);
     }
 
-    LaneRays fetchRays(const Indices& at) const {
+    LaneRays fetchRays(const Indices& at, VF time) const {
         LaneRays r;
-        r.time = fetch(d_, rays_.time, at);
+        r.time = time;
         r.weight0 = hn::Sub(hn::Set(d_, 1.0f), r.time);  // 1 - t, as the reference lerps
-        r.originX = fetch(d_, rays_.originX, at);
-        r.originY = fetch(d_, rays_.originY, at);
+        // A pinhole's rays all start at +0 (moving a vertex to it subtracts +0: the same bits).
+        const bool atOrigin = rays_.allAtOrigin();
+        r.originX = atOrigin ? hn::Zero(d_) : fetch(d_, rays_.originX, at);
+        r.originY = atOrigin ? hn::Zero(d_) : fetch(d_, rays_.originY, at);
         r.shearX = fetch(d_, rays_.shearX, at);
         r.shearY = fetch(d_, rays_.shearY, at);
         // Along z, sz = 1 / dz, the same for every camera ray.
@@ -474,7 +500,7 @@ class Pass {
         w = hn::Load(d_, s[8]);
     }
 
-    void leaf(int node, const std::int32_t* in, int n) {
+    void leaf(int node, const RayList& in, int n) {
         std::size_t count;
         const std::uint32_t* triangles =
             h_.leafTriangles(node - PatchHierarchy::firstLeaf(h_.depth()), count);
@@ -482,10 +508,10 @@ class Pass {
         leafVertices(triangles, count);
         for (int i = 0; i < n; i += lanes_) {
             MF active;
-            const Indices at = indicesAt(in, i, n, active);
+            const Indices at = indicesAt(in.index, i, n, active);
             triangleTests_ += std::int64_t(hn::CountTrue(d_, active) * count);
             if (kCount) addWork(SampleWork::TriangleTests, at.index, active, std::uint32_t(count));
-            LaneRays r = fetchRays(at);
+            LaneRays r = fetchRays(at, hn::LoadU(d_, in.time + i));
             shearVertices(r);
             if (kEveryHit)
                 offerEveryHit(r, triangles, count, active, at.index);

@@ -5,15 +5,16 @@
 // The tile's rays are in time-bucket order (tile_rays.h). A pass over one group starts with the
 // rays whose time lies in the tile's time range (an index range, then a per-ray check: "samples
 // tested"), all tested against the branch node's box. The rays that meet a node are a list of
-// sample indices, packed by vector compression, so each vector tested against a box is full
-// however few rays reach it. A child is visited only when a leaf below it overlaps the tile, and
+// sample indices with the box test's per-ray data beside them (TileRays::RayList), packed by vector
+// compression, so each vector tested against a box is full however few rays reach it and loads its
+// data instead of gathering it. A child is visited only when a leaf below it overlaps the tile, and
 // a ray meets the child only when its time lies in the child's time range (the union of the time
 // intervals of its overlapping leaves, from the tile test) and it passes the 12-multiply-add
 // moving-box test; both children are tested with one load of the rays' data, then the nearer
-// child's subtree is traced first, so its hits shorten the rays before the farther child's
-// subtree. At a leaf, each ray is tested watertight against the leaf's triangles blended to its
-// time; an opaque surface keeps the nearest hit in (depth, patch, triangle) order and shortens the
-// ray, a transparent one offers every hit to the sample's layers.
+// child's subtree is traced first, so its hits shorten the rays before the farther child's subtree.
+// At a leaf, each ray is tested watertight against the leaf's triangles blended to its time; an
+// opaque surface keeps the nearest hit in (depth, patch, triangle) order and shortens the ray, a
+// transparent one offers every hit to the sample's layers.
 //
 // Every per-ray result equals the scalar tests' (moving_box_ray.h, watertight_triangle.h): the
 // vector code performs the same float operations in the same order, without fused multiply-adds,

@@ -1,6 +1,7 @@
 #include "rasterizer/tile_rays.h"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <limits>
 
@@ -79,7 +80,9 @@ TileRays::TileRays(const TileRayFrame& frame) : frame_(frame) {
     changed = changed_.get();
     improved_ = hwy::AllocateAligned<std::uint16_t>(batches);
     listStride_ = n + kMaxLanes;
-    lists_ = hwy::AllocateAligned<std::int32_t>(listStride_ * std::size_t(2 * kMaxStreamLevels));
+    const auto listSlots = std::size_t(2 * kMaxStreamLevels);
+    lists_ = hwy::AllocateAligned<std::int32_t>(listStride_ * listSlots);
+    listFloats_ = hwy::AllocateAligned<float>(listStride_ * listSlots * kListFloatArrays);
     vertices_ = hwy::AllocateAligned<float>(std::size_t(3 * 3 * kMaxLeafTriangles * kMaxLanes));
 }
 
@@ -193,11 +196,15 @@ void TileRays::startHits(const VisibilityBuffer& buffer) {
 void TileRays::summarize() {
     // Branch-free accumulations, so the loop vectorizes.
     int offAxis = 0, parallel = 0, moving = 0;
+    std::uint32_t originBits = 0;
     for (int i = 0; i < count_; ++i) {
         offAxis |= (axisX[i] ^ 1) | axisY[i] | (axisZ[i] ^ 2);
         parallel |= parallelAxes[i];
         moving |= time[i] != 0.0f;
+        originBits |=
+            std::bit_cast<std::uint32_t>(originX[i]) | std::bit_cast<std::uint32_t>(originY[i]);
     }
+    allAtOrigin_ = originBits == 0;
     allAlongZ_ = offAxis == 0;
     anyParallel_ = parallel != 0;
     allAtOpen_ = moving == 0;

@@ -148,15 +148,36 @@ class TileRays {
     // Whether every sample's time is 0 (nothing varies over the shutter): a vertex blended to it
     // is its t=0 position.
     bool allAtShutterOpen() const { return allAtOpen_; }
+    // Whether every ray starts at the origin, +0 to the bit (a pinhole camera): a vertex moved to
+    // it is the vertex itself.
+    bool allAtOrigin() const { return allAtOrigin_; }
     bool anyParallel() const { return anyParallel_; }
     // Per batch of kMaxLanes samples: bit j, sample j of the batch got a nearer hit in this tile.
     std::uint16_t* changed;
 
-    // Scratch of the ray kernels: two lists of sample indices per level of a descent, one per
-    // child (with room for a vector written past the end), and per batch the samples a pass
+    // The rays of one level of a descent that met one box: their sample indices and, beside
+    // them, the per-ray data of the box test, packed in the same order. The next level loads
+    // that data as vectors instead of gathering it through the indices; the ray end is not
+    // carried, since a hit found after the list was written may shorten it.
+    struct RayList {
+        std::int32_t* index;
+        float* time;
+        float* inverseX;
+        float* inverseY;
+        float* slabC[2];
+    };
+
+    // Scratch of the ray kernels: two ray lists per level of a descent, one per child (each
+    // array with room for a vector written past the end), and per batch the samples a pass
     // improved.
-    std::int32_t* levelList(int level, int child) {
-        return lists_.get() + std::size_t(2 * level + child) * listStride_;
+    RayList levelList(int level, int child) {
+        const auto slot = std::size_t(2 * level + child);
+        float* floats = listFloats_.get() + slot * kListFloatArrays * listStride_;
+        return {lists_.get() + slot * listStride_,
+                floats,
+                floats + listStride_,
+                floats + 2 * listStride_,
+                {floats + 3 * listStride_, floats + 4 * listStride_}};
     }
     std::uint16_t* passImproved() { return improved_.get(); }
     // A leaf's distinct vertices sheared for a vector of rays: 3 x kMaxLanes floats each.
@@ -176,7 +197,7 @@ class TileRays {
     int capacity_ = 0, count_ = 0, padded_ = 0, buckets_ = 1;
     float farthest_ = 0;
     bool farthestStale_ = true;
-    bool allAlongZ_ = true, anyParallel_ = false, allAtOpen_ = false;
+    bool allAlongZ_ = true, anyParallel_ = false, allAtOpen_ = false, allAtOrigin_ = false;
     std::vector<int> bucketBegin_;       // buckets + 1
     std::vector<std::uint16_t> morton_;  // the tile's pixels (y * tileSize + x) in Morton order
     // The current tile's pixels (x, y) in Morton order, and each sample's bucket in that order.
@@ -197,7 +218,9 @@ class TileRays {
     hwy::AlignedFreeUniquePtr<std::int32_t[]> ints_;
     hwy::AlignedFreeUniquePtr<std::uint32_t[]> counts_;
     hwy::AlignedFreeUniquePtr<std::uint16_t[]> changed_, improved_;
+    static constexpr std::size_t kListFloatArrays = 5;  // RayList's float arrays
     hwy::AlignedFreeUniquePtr<std::int32_t[]> lists_;
+    hwy::AlignedFreeUniquePtr<float[]> listFloats_;
     hwy::AlignedFreeUniquePtr<float[]> vertices_;
     std::size_t listStride_ = 0;
 };
