@@ -107,10 +107,7 @@ class Pass {
             rays_.passImproved()[b] = 0;
         std::int64_t tested = 0;
         const int n = startRays(times_[start], first, last, start, tested);
-        if (n > 0) {
-            const RayList level1 = rays_.levelList(1, 0);
-            descend(start, level1, n, 1);
-        }
+        if (n > 0) descend(start, rays_.levelList(1, 0), n, 1);
         work_.samplesTested += tested;
         work_.samplesRejectedTime += std::int64_t(rays_.count()) - tested;
         work_.raysCast += tested;
