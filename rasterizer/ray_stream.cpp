@@ -139,7 +139,6 @@ class Pass {
         const VF far = hn::Set(d_, rays_.farDepth());
         const VF perLambda = hn::Set(d_, rays_.depthPerLambda());
         const VF widen = hn::Set(d_, 1.0f + kDepthTieWidening);
-        const bool toDepth = pass_.zCulling || kEveryHit;
         const VF farEnd = hn::Set(d_, rayEndAtDepth(rays_.farDepth(), rays_.depthPerLambda()));
         const VI firstIndex = hn::Set(di_, first), lastIndex = hn::Set(di_, last);
         const LBBox& box = h_.node(start);
@@ -151,7 +150,9 @@ class Pass {
                 hn::RebindMask(d_, hn::AndNot(hn::Lt(index, firstIndex), hn::Lt(index, lastIndex)));
             const VF t = hn::Load(d_, rays_.time + at);
             const MF m = hn::And(mine, hn::And(hn::Ge(t, lower), hn::Le(t, upper)));
-            if (toDepth) {
+            if (pass_.zCulling) {
+                // TileRays::rayEnd is the depth bound's end already (see there).
+            } else if (kEveryHit) {
                 const VF depth = hn::Load(d_, rays_.bestDepth + at);
                 const VF bound = hn::IfThenElse(hn::Lt(depth, far), depth, far);
                 hn::BlendedStore(hn::Mul(hn::Div(bound, perLambda), widen), mine, d_,
@@ -598,6 +599,8 @@ class Pass {
             rays_.bestTriangle[i] = triangleLanes[lane];
             rays_.bestB1[i] = b1s[lane];
             rays_.bestB2[i] = b2s[lane];
+            // The new nearest hit's end (or, for a hit within the tie widening beyond the far
+            // plane, the far plane's, which the ray already had): TileRays::rayEnd's rule.
             rays_.rayEnd[i] = ends[lane];
             rays_.passImproved()[i / kMaxLanes] |= std::uint16_t(1u << (i % kMaxLanes));
         }

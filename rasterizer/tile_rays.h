@@ -139,7 +139,11 @@ class TileRays {
     std::uint32_t* bestTriangle;
     float* bestB1;
     float* bestB2;
-    float* rayEnd;  // the ray parameter the current pass may hit up to
+    // The ray parameter the current pass may hit up to. load() ends each ray at its sample's
+    // depth bound (rayEndAtDepth of the nearest hit, or of the far plane), and a pass that finds a
+    // nearer hit shortens it to that hit's end, so with z culling it stays the depth bound's end
+    // and a pass starts from it as it stands; without, each pass sets its own.
+    float* rayEnd;
     std::uint32_t* work[std::size_t(SampleWork::kCount)];  // only with countPerSample
 
     // Whether every ray shears along z (the fast path of the triangle test), and whether any

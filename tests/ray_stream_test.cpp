@@ -3,9 +3,14 @@
 #include <gtest/gtest.h>
 #include <hwy/targets.h>
 
+#include <cstring>
+
 #include "pipeline/core/counters.h"
 #include "pipeline/core/scene_reader.h"
 #include "pipeline/driver/render.h"
+#include "rasterizer/patch_rasterizer.h"
+#include "rasterizer/z_culling.h"
+#include "tessellator/front_end.h"
 #include "tests/render_compare.h"
 #include "tests/test_paths.h"
 
@@ -46,6 +51,73 @@ TEST(RayStream, EverySimdTargetGivesTheSameSamplesAndCounts) {
         hwy::SetSupportedTargetsForTest(0);
     }
     std::printf("SIMD targets compared: %zu\n", targets.size());
+}
+
+// With z culling a pass starts from the ray ends as the tile holds them (TileRays::rayEnd), so
+// after every pass each ray must still end at its sample's depth bound: where the pass found a
+// nearer hit, at that hit's.
+TEST(RayStream, WithZCullingEveryRayEndsAtItsDepthBoundAfterEachPass) {
+    SceneDesc scene = readSceneFile(test::sourcePath("scenes/motion_defocus.json"));
+    scene.film = {64, 48, 4, 1};
+    const FrontEnd fe(scene);
+    const Effects effects = detectEffects(scene, fe.geometryMoves(), fe.camera().moves());
+    const SampleGenerator samples(scene.film.seed, scene.film.samplesPerPixel, effects);
+    const LensModel lens{scene.lens.apertureRadius, scene.lens.focusDistance};
+    const PatchRasterizer rasterizer(fe.camera(), lens, samples, effects, RasterizerOptions{});
+    ASSERT_TRUE(rasterizer.options().zCulling);
+    FrontEndWorkspace ws = fe.makeWorkspace();
+    std::vector<MovingMesh> meshes(fe.patchCount());
+    std::vector<PatchRasterizer::Group> groups(fe.patchCount());
+    RasterWork work;
+    for (std::size_t i = 0; i < fe.patchCount(); ++i) {
+        TessellatedPatch patch;
+        fe.tessellate(i, patch, ws);
+        toMovingMesh(patch, fe.camera(), effects.motion, int(i), true, meshes[i]);
+        const HierarchyOrder all = hierarchyOrder(meshes[i], int(meshes[i].triangleCount()),
+                                                  rasterizer.options().leafSize);
+        rasterizer.prepareGroup(meshes[i], all.triangles.data(), all.triangles.size(), groups[i],
+                                work);
+    }
+    const TileGrid& grid = rasterizer.tileGrid();
+    VisibilityBuffer buffer(grid.width, grid.height, scene.film.samplesPerPixel,
+                            fe.camera().farPlane());
+    const TileRayFrame frame{&fe.camera(),
+                             lens,
+                             {&samples, nullptr},
+                             scene.film.samplesPerPixel,
+                             effects.timeSamples(),
+                             grid.tileSize,
+                             false,
+                             false};
+    TileRays rays(frame);
+    const VisibilityTargets targets{&buffer, nullptr, nullptr, 0};
+    const auto endsAtDepthBound = [&rays](int i) {
+        const float depth = rays.bestDepth[i];
+        const float bound = depth < rays.farDepth() ? depth : rays.farDepth();
+        const float end = rayEndAtDepth(bound, rays.depthPerLambda());
+        return std::memcmp(&end, &rays.rayEnd[i], sizeof end) == 0;
+    };
+    std::size_t passes = 0, shortened = 0, wrong = 0;
+    for (int ty = 0; ty < grid.tilesY(); ++ty)
+        for (int tx = 0; tx < grid.tilesX(); ++tx) {
+            rays.load(grid.rect(tx, ty), buffer);
+            for (int i = 0; i < rays.count(); ++i) wrong += !endsAtDepthBound(i);
+            for (std::size_t g = 0; g < groups.size(); ++g) {
+                const TileRange& covered = groups[g].tiles;
+                if (tx < covered.x0 || tx >= covered.x1 || ty < covered.y0 || ty >= covered.y1)
+                    continue;
+                rasterizer.rasterizeTile(meshes[g], groups[g], tx, ty, rays, targets, work);
+                ++passes;
+                for (int i = 0; i < rays.count(); ++i) {
+                    wrong += !endsAtDepthBound(i);
+                    shortened += rays.bestDepth[i] < rays.farDepth();
+                }
+            }
+            rays.store(buffer, nullptr);
+        }
+    EXPECT_EQ(wrong, 0u);
+    EXPECT_GT(passes, 100u);
+    EXPECT_GT(shortened, 1000u) << "the passes should find hits";
 }
 
 }  // namespace

@@ -9,6 +9,7 @@
 
 #include "rasterizer/moving_box_ray.h"
 #include "rasterizer/watertight_triangle.h"
+#include "rasterizer/z_culling.h"
 
 namespace patchsim {
 namespace {
@@ -195,6 +196,32 @@ TEST(TileRays, FarthestBoundIsTheDeepestSampleStillOpen) {
     EXPECT_EQ(rays.farthestDepthBound(), far);
     rays.load(kGrid.rect(1, 1), buffer);  // another tile, still open
     EXPECT_EQ(rays.farthestDepthBound(), far);
+}
+
+// A loaded ray ends at its sample's depth bound: the nearest hit so far, or the far plane
+// (z_culling.h), to the bit; a pass with z culling starts from that end.
+TEST(TileRays, EveryRayStartsEndingAtItsDepthBound) {
+    for (float lensRadius : {0.0f, 0.2f}) {
+        Frame f(SamplePattern::Stratified, true, lensRadius);
+        const float far = f.camera.farPlane();
+        VisibilityBuffer buffer(kGrid.width, kGrid.height, 9, far);
+        VisibilityRecord hit;
+        hit.patch = 0;
+        for (int s = 0; s < 9; s += 2) {
+            hit.depth = 1.5f + float(s);
+            buffer.offer(3, 2, s, hit);
+        }
+        TileRays rays(f.tiles);
+        rays.load(kGrid.rect(0, 0), buffer);
+        int hits = 0;
+        for (int i = 0; i < rays.count(); ++i) {
+            const float depth = buffer.records()[rays.record[i]].depth;
+            hits += depth < far;
+            const float end = rayEndAtDepth(depth < far ? depth : far, rays.depthPerLambda());
+            EXPECT_TRUE(sameBits(rays.rayEnd[i], end)) << "sample " << i;
+        }
+        EXPECT_EQ(hits, 5);
+    }
 }
 
 // Only the samples that got a nearer hit in the tile are written back, with their time and lens.

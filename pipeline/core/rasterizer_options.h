@@ -51,8 +51,9 @@ struct RasterizerOptions {
     void validateTileSamples(int samplesPerPixel, const std::string& source) const;
 };
 
-// The most samples a tile may hold: each rasterizer worker keeps one tile's rays, about 200 bytes
-// a sample (rasterizer/tile_rays.h), so 2^20 is some 200 MiB a worker.
+// The most samples a tile may hold: each rasterizer worker keeps one tile's rays and the ray lists
+// of a descent, about 500 bytes a sample (rasterizer/tile_rays.h), so 2^20 is some 500 MiB a
+// worker.
 inline constexpr std::int64_t kMaxTileSamples = std::int64_t(1) << 20;
 
 inline constexpr int kMaxLeavesPerHierarchy = 64;
