@@ -94,7 +94,8 @@ class Pass {
           h_(*pass.hierarchy),
           mesh_(*pass.mesh),
           work_(work),
-          lanes_(int(hn::Lanes(d_))) {}
+          lanes_(int(hn::Lanes(d_))),
+          atOrigin_(rays.allAtOrigin()) {}
 
     void run() {
         const TileTraversal& traversal = *pass_.traversal;
@@ -168,9 +169,10 @@ class Pass {
                 addWork(SampleWork::Rays, index, m, 1);
                 addWork(SampleWork::BoxTests, index, m, 1);
             }
-            const ListedRays data{
-                t, hn::Load(d_, rays_.inverseX + at), hn::Load(d_, rays_.inverseY + at),
-                hn::Load(d_, rays_.slabC[0] + at), hn::Load(d_, rays_.slabC[1] + at)};
+            const ListedRays data{t, hn::Load(d_, rays_.inverseX + at),
+                                  hn::Load(d_, rays_.inverseY + at),
+                                  atOrigin_ ? hn::Zero(d_) : hn::Load(d_, rays_.slabC[0] + at),
+                                  atOrigin_ ? hn::Zero(d_) : hn::Load(d_, rays_.slabC[1] + at)};
             const VF end = hn::Load(d_, rays_.rayEnd + at);
             MF hit = hn::And(m, hitsBox(box, SlabLanes<false>::of(d_, rays_, data, end)));
             if (rays_.anyParallel()) hit = parallelLanes(box, index, m, hit);
@@ -189,6 +191,9 @@ class Pass {
     }
 
     ListedRays listedAt(const RayList& list, int i) const {
+        if (atOrigin_)
+            return {hn::LoadU(d_, list.time + i), hn::LoadU(d_, list.inverseX + i),
+                    hn::LoadU(d_, list.inverseY + i), hn::Zero(d_), hn::Zero(d_)};
         return {hn::LoadU(d_, list.time + i), hn::LoadU(d_, list.inverseX + i),
                 hn::LoadU(d_, list.inverseY + i), hn::LoadU(d_, list.slabC[0] + i),
                 hn::LoadU(d_, list.slabC[1] + i)};
@@ -201,8 +206,10 @@ class Pass {
         hn::StoreU(hn::Compress(r.time, keep), d_, out.time + count);
         hn::StoreU(hn::Compress(r.inverseX, keep), d_, out.inverseX + count);
         hn::StoreU(hn::Compress(r.inverseY, keep), d_, out.inverseY + count);
-        hn::StoreU(hn::Compress(r.c0, keep), d_, out.slabC[0] + count);
-        hn::StoreU(hn::Compress(r.c1, keep), d_, out.slabC[1] + count);
+        if (!atOrigin_) {
+            hn::StoreU(hn::Compress(r.c0, keep), d_, out.slabC[0] + count);
+            hn::StoreU(hn::Compress(r.c1, keep), d_, out.slabC[1] + count);
+        }
         return count + int(hn::CountTrue(d_, keep));
     }
 
@@ -285,7 +292,9 @@ class Pass {
     // The 12-multiply-add test of moving_box_ray.h, lane by lane, in the same operations. At
     // shutter open the t = 1 terms are x1 * 0: a zero (the walk passes no empty box, so x1 is
     // finite), which leaves the sum as it is or changes only the sign of a zero sum, and no
-    // comparison below sees that sign. So the six multiply-adds left give the scalar answer.
+    // comparison below sees that sign. So the six multiply-adds left give the scalar answer. The
+    // same holds for c when every ray starts at +0: c = -0 x 1/d is a zero, and adding it changes
+    // at most the sign of a zero sum, so it is left out.
     template <bool kStill>
     HWY_INLINE MF hitsBox(const LBBox& box, const SlabLanes<kStill>& s) const {
         VF nearest = hn::Set(d_, rays_.lambdaMin());
@@ -297,7 +306,7 @@ class Pass {
                 e0 = hn::Add(e0, hn::Mul(hn::Set(d_, box.bounds1.lower[k]), s.b[k]));
                 e1 = hn::Add(e1, hn::Mul(hn::Set(d_, box.bounds1.upper[k]), s.b[k]));
             }
-            if (k < 2) {  // the origin is on the lens plane: c is 0 along z
+            if (k < 2 && !atOrigin_) {  // the origin is on the lens plane: c is 0 along z
                 e0 = hn::Add(e0, s.c[k]);
                 e1 = hn::Add(e1, s.c[k]);
             }
@@ -666,6 +675,9 @@ class Pass {
     const MovingMesh& mesh_;
     RasterWork& work_;
     const int lanes_;
+    // Every ray starts at +0 (a pinhole): c = -o / d is a zero, which the box test leaves out and
+    // the lists do not carry (see hitsBox).
+    const bool atOrigin_;
     std::int64_t boxTests_ = 0, triangleTests_ = 0;
     // The current leaf's distinct vertices and its triangles' corners among them.
     std::uint32_t vertices_[3 * kMaxLeafTriangles];

@@ -162,7 +162,8 @@ class TileRays {
     // The rays of one level of a descent that met one box: their sample indices and, beside
     // them, the per-ray data of the box test, packed in the same order. The next level loads
     // that data as vectors instead of gathering it through the indices; the ray end is not
-    // carried, since a hit found after the list was written may shorten it.
+    // carried, since a hit found after the list was written may shorten it. In a tile whose rays
+    // all start at the origin (allAtOrigin) c is a zero, and its arrays are left unwritten.
     struct RayList {
         std::int32_t* index;
         float* time;
