@@ -94,8 +94,7 @@ class Pass {
           h_(*pass.hierarchy),
           mesh_(*pass.mesh),
           work_(work),
-          lanes_(int(hn::Lanes(d_))),
-          atOrigin_(rays.allAtOrigin()) {}
+          lanes_(int(hn::Lanes(d_))) {}
 
     void run() {
         const TileTraversal& traversal = *pass_.traversal;
@@ -107,7 +106,9 @@ class Pass {
         for (int b = first / kMaxLanes; b < (last + kMaxLanes - 1) / kMaxLanes; ++b)
             rays_.passImproved()[b] = 0;
         std::int64_t tested = 0;
-        const int n = startRays(times_[start], first, last, start, tested);
+        const int n = rays_.allAtOrigin()
+                          ? startRays<true>(times_[start], first, last, start, tested)
+                          : startRays<false>(times_[start], first, last, start, tested);
         if (n > 0) descend(start, rays_.levelList(1, 0), n, 1);
         work_.samplesTested += tested;
         work_.samplesRejectedTime += std::int64_t(rays_.count()) - tested;
@@ -135,6 +136,10 @@ class Pass {
     // The pass's rays are the samples [first, last) whose time is in `hull`, each ending at its
     // depth bound; those that meet the start node's box go to the level-1 list. Returns its
     // length; `tested` gets the rays.
+    //
+    // kAtOrigin: every ray of the tile starts at +0 (a pinhole), so c = -o / d is a zero, which
+    // the box test leaves out and the lists do not carry (see hitsBox).
+    template <bool kAtOrigin>
     int startRays(TimeRange hull, int first, int last, int start, std::int64_t& tested) {
         const VF lower = hn::Set(d_, hull.lower), upper = hn::Set(d_, hull.upper);
         const VF far = hn::Set(d_, rays_.farDepth());
@@ -171,12 +176,13 @@ class Pass {
             }
             const ListedRays data{t, hn::Load(d_, rays_.inverseX + at),
                                   hn::Load(d_, rays_.inverseY + at),
-                                  atOrigin_ ? hn::Zero(d_) : hn::Load(d_, rays_.slabC[0] + at),
-                                  atOrigin_ ? hn::Zero(d_) : hn::Load(d_, rays_.slabC[1] + at)};
+                                  kAtOrigin ? hn::Zero(d_) : hn::Load(d_, rays_.slabC[0] + at),
+                                  kAtOrigin ? hn::Zero(d_) : hn::Load(d_, rays_.slabC[1] + at)};
             const VF end = hn::Load(d_, rays_.rayEnd + at);
-            MF hit = hn::And(m, hitsBox(box, SlabLanes<false>::of(d_, rays_, data, end)));
+            MF hit =
+                hn::And(m, hitsBox(box, SlabLanes<false, kAtOrigin>::of(d_, rays_, data, end)));
             if (rays_.anyParallel()) hit = parallelLanes(box, index, m, hit);
-            count = append(out, count, hit, index, data);
+            count = append<kAtOrigin>(out, count, hit, index, data);
         }
         boxTests_ += tested;
         return count;
@@ -190,8 +196,9 @@ class Pass {
                 full && list[i + lanes_ - 1] - list[i] == lanes_ - 1};
     }
 
+    template <bool kAtOrigin>
     ListedRays listedAt(const RayList& list, int i) const {
-        if (atOrigin_)
+        if constexpr (kAtOrigin)
             return {hn::LoadU(d_, list.time + i), hn::LoadU(d_, list.inverseX + i),
                     hn::LoadU(d_, list.inverseY + i), hn::Zero(d_), hn::Zero(d_)};
         return {hn::LoadU(d_, list.time + i), hn::LoadU(d_, list.inverseX + i),
@@ -201,12 +208,13 @@ class Pass {
 
     // Appends the lanes `keep` of a vector of rays to `out`, which holds `count`; returns the new
     // count. Every array has room for a whole vector past its end.
+    template <bool kAtOrigin>
     int append(const RayList& out, int count, MF keep, VI index, const ListedRays& r) const {
         hn::StoreU(hn::Compress(index, hn::RebindMask(di_, keep)), di_, out.index + count);
         hn::StoreU(hn::Compress(r.time, keep), d_, out.time + count);
         hn::StoreU(hn::Compress(r.inverseX, keep), d_, out.inverseX + count);
         hn::StoreU(hn::Compress(r.inverseY, keep), d_, out.inverseY + count);
-        if (!atOrigin_) {
+        if constexpr (!kAtOrigin) {
             hn::StoreU(hn::Compress(r.c0, keep), d_, out.slabC[0] + count);
             hn::StoreU(hn::Compress(r.c1, keep), d_, out.slabC[1] + count);
         }
@@ -223,8 +231,9 @@ class Pass {
 
     // The slab-test constants of a vector of rays: a = (1 - t) / d and b = t / d from 1/d, in
     // makeSlabRay's operations; c = -o / d; the ray's end. In a tile whose every sample is at
-    // shutter open, a is 1/d itself and b is a zero that hitsBox leaves out (see there).
-    template <bool kStill>
+    // shutter open, a is 1/d itself and b is a zero that hitsBox leaves out (see there); in a tile
+    // whose rays all start at the origin, so is c.
+    template <bool kStill, bool kAtOrigin>
     struct SlabLanes {
         VF a[3], b[3], c[2], end;
         static SlabLanes of(DF d, const TileRays& r, const ListedRays& rays, VF end) {
@@ -262,9 +271,9 @@ class Pass {
 
     // One vector of rays (`index`, `valid`, `rays`, their slab constants `s`) against one child:
     // those whose time is in its range and that meet its box are appended to its list.
-    template <bool kStill>
+    template <bool kStill, bool kAtOrigin>
     void testChild(ChildTest& c, VI index, MF valid, const ListedRays& rays,
-                   const SlabLanes<kStill>& s) {
+                   const SlabLanes<kStill, kAtOrigin>& s) {
         const VF t = rays.time;
         const MF active = hn::And(valid, hn::And(hn::Ge(t, c.lower), hn::Le(t, c.upper)));
         const std::size_t tests = hn::CountTrue(d_, active);
@@ -273,18 +282,19 @@ class Pass {
         if (kCount) addWork(SampleWork::BoxTests, index, active, 1);
         MF hit = hn::And(active, hitsBox(*c.box, s));
         if (rays_.anyParallel()) hit = parallelLanes(*c.box, index, active, hit);
-        c.count = append(c.out, c.count, hit, index, rays);
+        c.count = append<kAtOrigin>(c.out, c.count, hit, index, rays);
     }
 
     // The rays of `in` (n of them) against the live ones of `children` (1 or 2): each vector's
     // data is loaded once for both boxes.
-    template <bool kStill>
-    void filter(const RayList& in, int n, ChildTest* children, int count) {
+    template <bool kStill, bool kAtOrigin>
+    HWY_NOINLINE void filter(const RayList& in, int n, ChildTest* children, int count) {
         for (int i = 0; i < n; i += lanes_) {
             MF valid;
             const Indices at = indicesAt(in.index, i, n, valid);
-            const ListedRays rays = listedAt(in, i);
-            const auto s = SlabLanes<kStill>::of(d_, rays_, rays, fetch(d_, rays_.rayEnd, at));
+            const ListedRays rays = listedAt<kAtOrigin>(in, i);
+            const auto s =
+                SlabLanes<kStill, kAtOrigin>::of(d_, rays_, rays, fetch(d_, rays_.rayEnd, at));
             for (int c = 0; c < count; ++c) testChild(children[c], at.index, valid, rays, s);
         }
     }
@@ -295,8 +305,8 @@ class Pass {
     // comparison below sees that sign. So the six multiply-adds left give the scalar answer. The
     // same holds for c when every ray starts at +0: c = -0 x 1/d is a zero, and adding it changes
     // at most the sign of a zero sum, so it is left out.
-    template <bool kStill>
-    HWY_INLINE MF hitsBox(const LBBox& box, const SlabLanes<kStill>& s) const {
+    template <bool kStill, bool kAtOrigin>
+    HWY_INLINE MF hitsBox(const LBBox& box, const SlabLanes<kStill, kAtOrigin>& s) const {
         VF nearest = hn::Set(d_, rays_.lambdaMin());
         VF farthest = s.end;
         for (int k = 0; k < 3; ++k) {
@@ -306,7 +316,7 @@ class Pass {
                 e0 = hn::Add(e0, hn::Mul(hn::Set(d_, box.bounds1.lower[k]), s.b[k]));
                 e1 = hn::Add(e1, hn::Mul(hn::Set(d_, box.bounds1.upper[k]), s.b[k]));
             }
-            if (k < 2 && !atOrigin_) {  // the origin is on the lens plane: c is 0 along z
+            if (k < 2 && !kAtOrigin) {  // the origin is on the lens plane: c is 0 along z
                 e0 = hn::Add(e0, s.c[k]);
                 e1 = hn::Add(e1, s.c[k]);
             }
@@ -355,10 +365,15 @@ class Pass {
             nodes[count++] = child;
         }
         if (count == 0) return;
-        if (rays_.allAtShutterOpen())
-            filter<true>(in, n, tests, count);
+        const bool still = rays_.allAtShutterOpen(), atOrigin = rays_.allAtOrigin();
+        if (still && atOrigin)
+            filter<true, true>(in, n, tests, count);
+        else if (still)
+            filter<true, false>(in, n, tests, count);
+        else if (atOrigin)
+            filter<false, true>(in, n, tests, count);
         else
-            filter<false>(in, n, tests, count);
+            filter<false, false>(in, n, tests, count);
         for (int c = 0; c < count; ++c)
             if (tests[c].count > 0) descend(nodes[c], tests[c].out, tests[c].count, level + 1);
     }
@@ -675,9 +690,6 @@ class Pass {
     const MovingMesh& mesh_;
     RasterWork& work_;
     const int lanes_;
-    // Every ray starts at +0 (a pinhole): c = -o / d is a zero, which the box test leaves out and
-    // the lists do not carry (see hitsBox).
-    const bool atOrigin_;
     std::int64_t boxTests_ = 0, triangleTests_ = 0;
     // The current leaf's distinct vertices and its triangles' corners among them.
     std::uint32_t vertices_[3 * kMaxLeafTriangles];
