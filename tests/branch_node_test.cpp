@@ -7,6 +7,7 @@
 #include "rasterizer/tile_frustum.h"
 #include "rasterizer/tile_traversal.h"
 #include "tessellator/front_end.h"
+#include "tests/patch_setup.h"
 #include "tests/test_paths.h"
 
 namespace patchsim {
@@ -39,19 +40,14 @@ TEST(BranchNode, MethodsPickRootFirstSplitOrBitmask) {
 TEST(BranchNode, BitmaskIsNeverAboveFirstSplitOnARealScene) {
     SceneDesc scene = readSceneFile(test::sourcePath("scenes/motion_defocus.json"));
     scene.film = {96, 72, 4, 1};
-    const FrontEnd fe(scene);
-    const Effects effects = detectEffects(scene, fe.geometryMoves(), fe.camera().moves());
-    const SampleGenerator samples(scene.film.seed, scene.film.samplesPerPixel, effects);
-    const LensModel lens{scene.lens.apertureRadius, scene.lens.focusDistance};
-    const PatchRasterizer rasterizer(fe.camera(), lens, samples, effects, RasterizerOptions{});
+    const test::PatchSetup setup(scene);
+    const PatchRasterizer& rasterizer = setup.rasterizer;
+    const FrontEnd& fe = setup.fe;
     FrontEndWorkspace ws = fe.makeWorkspace();
     std::size_t compared = 0, strictlyBelow = 0;
     RasterWork work;
     for (std::size_t i = 0; i < fe.patchCount(); ++i) {
-        TessellatedPatch patch;
-        fe.tessellate(i, patch, ws);
-        MovingMesh mesh;
-        toMovingMesh(patch, fe.camera(), effects.motion, int(i), true, mesh);
+        const MovingMesh mesh = setup.mesh(i, ws);
         // The whole patch as one group.
         const HierarchyOrder all =
             hierarchyOrder(mesh, int(mesh.triangleCount()), rasterizer.options().leafSize);
@@ -59,8 +55,9 @@ TEST(BranchNode, BitmaskIsNeverAboveFirstSplitOnARealScene) {
         rasterizer.prepareGroup(mesh, all.triangles.data(), all.triangles.size(), group, work);
         for (int ty = group.tiles.y0; ty < group.tiles.y1; ++ty)
             for (int tx = group.tiles.x0; tx < group.tiles.x1; ++tx) {
-                const TileFrustum frustum = makeTileFrustum(
-                    fe.camera(), lens, rasterizer.tileGrid().rect(tx, ty), fe.camera().farPlane());
+                const TileFrustum frustum =
+                    makeTileFrustum(fe.camera(), setup.lens, rasterizer.tileGrid().rect(tx, ty),
+                                    fe.camera().farPlane());
                 const TileTraversal t =
                     traverseTile(group.hierarchy, frustum, true, TimeRefinement::Leaves, work);
                 if (!t.overlaps) continue;

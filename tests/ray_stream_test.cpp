@@ -8,9 +8,8 @@
 #include "pipeline/core/counters.h"
 #include "pipeline/core/scene_reader.h"
 #include "pipeline/driver/render.h"
-#include "rasterizer/patch_rasterizer.h"
 #include "rasterizer/z_culling.h"
-#include "tessellator/front_end.h"
+#include "tests/patch_setup.h"
 #include "tests/render_compare.h"
 #include "tests/test_paths.h"
 
@@ -59,20 +58,15 @@ TEST(RayStream, EverySimdTargetGivesTheSameSamplesAndCounts) {
 TEST(RayStream, WithZCullingEveryRayEndsAtItsDepthBoundAfterEachPass) {
     SceneDesc scene = readSceneFile(test::sourcePath("scenes/motion_defocus.json"));
     scene.film = {64, 48, 4, 1};
-    const FrontEnd fe(scene);
-    const Effects effects = detectEffects(scene, fe.geometryMoves(), fe.camera().moves());
-    const SampleGenerator samples(scene.film.seed, scene.film.samplesPerPixel, effects);
-    const LensModel lens{scene.lens.apertureRadius, scene.lens.focusDistance};
-    const PatchRasterizer rasterizer(fe.camera(), lens, samples, effects, RasterizerOptions{});
+    const test::PatchSetup setup(scene);
+    const PatchRasterizer& rasterizer = setup.rasterizer;
     ASSERT_TRUE(rasterizer.options().zCulling);
-    FrontEndWorkspace ws = fe.makeWorkspace();
-    std::vector<MovingMesh> meshes(fe.patchCount());
-    std::vector<PatchRasterizer::Group> groups(fe.patchCount());
+    FrontEndWorkspace ws = setup.fe.makeWorkspace();
+    std::vector<MovingMesh> meshes;
+    std::vector<PatchRasterizer::Group> groups(setup.fe.patchCount());
     RasterWork work;
-    for (std::size_t i = 0; i < fe.patchCount(); ++i) {
-        TessellatedPatch patch;
-        fe.tessellate(i, patch, ws);
-        toMovingMesh(patch, fe.camera(), effects.motion, int(i), true, meshes[i]);
+    for (std::size_t i = 0; i < setup.fe.patchCount(); ++i) {
+        meshes.push_back(setup.mesh(i, ws));
         const HierarchyOrder all = hierarchyOrder(meshes[i], int(meshes[i].triangleCount()),
                                                   rasterizer.options().leafSize);
         rasterizer.prepareGroup(meshes[i], all.triangles.data(), all.triangles.size(), groups[i],
@@ -80,12 +74,12 @@ TEST(RayStream, WithZCullingEveryRayEndsAtItsDepthBoundAfterEachPass) {
     }
     const TileGrid& grid = rasterizer.tileGrid();
     VisibilityBuffer buffer(grid.width, grid.height, scene.film.samplesPerPixel,
-                            fe.camera().farPlane());
-    const TileRayFrame frame{&fe.camera(),
-                             lens,
-                             {&samples, nullptr},
+                            setup.fe.camera().farPlane());
+    const TileRayFrame frame{&setup.fe.camera(),
+                             setup.lens,
+                             {&setup.samples, nullptr},
                              scene.film.samplesPerPixel,
-                             effects.timeSamples(),
+                             setup.effects.timeSamples(),
                              grid.tileSize,
                              false,
                              false};
