@@ -142,13 +142,12 @@ class Pass {
     template <bool kAtOrigin>
     int startRays(TimeRange hull, int first, int last, int start, std::int64_t& tested) {
         const VF lower = hn::Set(d_, hull.lower), upper = hn::Set(d_, hull.upper);
-        const VF far = hn::Set(d_, rays_.farDepth());
-        const VF perLambda = hn::Set(d_, rays_.depthPerLambda());
-        const VF widen = hn::Set(d_, 1.0f + kDepthTieWidening);
-        const VF farEnd = hn::Set(d_, rayEndAtDepth(rays_.farDepth(), rays_.depthPerLambda()));
         const VI firstIndex = hn::Set(di_, first), lastIndex = hn::Set(di_, last);
         const LBBox& box = h_.node(start);
         const RayList out = rays_.levelList(1, 0);
+        // The tile's own arrays, read as a list whose entries are the samples themselves.
+        const RayList tile{
+            nullptr, rays_.time, rays_.inverseX, rays_.inverseY, {rays_.slabC[0], rays_.slabC[1]}};
         int count = 0;
         for (int at = first / lanes_ * lanes_; at < last; at += lanes_) {
             const VI index = hn::Add(hn::Iota(di_, 0), hn::Set(di_, at));
@@ -156,16 +155,9 @@ class Pass {
                 hn::RebindMask(d_, hn::AndNot(hn::Lt(index, firstIndex), hn::Lt(index, lastIndex)));
             const VF t = hn::Load(d_, rays_.time + at);
             const MF m = hn::And(mine, hn::And(hn::Ge(t, lower), hn::Le(t, upper)));
-            if (pass_.zCulling) {
-                // TileRays::rayEnd is the depth bound's end already (see there).
-            } else if (kEveryHit) {
-                const VF depth = hn::Load(d_, rays_.bestDepth + at);
-                const VF bound = hn::IfThenElse(hn::Lt(depth, far), depth, far);
-                hn::BlendedStore(hn::Mul(hn::Div(bound, perLambda), widen), mine, d_,
-                                 rays_.rayEnd + at);
-            } else {
-                hn::BlendedStore(farEnd, mine, d_, rays_.rayEnd + at);
-            }
+            // With z culling, TileRays::rayEnd holds each ray's depth-bound end already.
+            if (!pass_.zCulling)
+                hn::BlendedStore(endWithoutCulling(at), mine, d_, rays_.rayEnd + at);
             const std::size_t n = hn::CountTrue(d_, m);
             if (n == 0) continue;
             tested += std::int64_t(n);
@@ -174,10 +166,7 @@ class Pass {
                 addWork(SampleWork::Rays, index, m, 1);
                 addWork(SampleWork::BoxTests, index, m, 1);
             }
-            const ListedRays data{t, hn::Load(d_, rays_.inverseX + at),
-                                  hn::Load(d_, rays_.inverseY + at),
-                                  kAtOrigin ? hn::Zero(d_) : hn::Load(d_, rays_.slabC[0] + at),
-                                  kAtOrigin ? hn::Zero(d_) : hn::Load(d_, rays_.slabC[1] + at)};
+            const ListedRays data = listedAt<kAtOrigin>(tile, at);
             const VF end = hn::Load(d_, rays_.rayEnd + at);
             MF hit =
                 hn::And(m, hitsBox(box, SlabLanes<false, kAtOrigin>::of(d_, rays_, data, end)));
@@ -196,14 +185,26 @@ class Pass {
                 full && list[i + lanes_ - 1] - list[i] == lanes_ - 1};
     }
 
+    // Without z culling a pass ends its rays at the far plane, or, when it keeps every hit, at
+    // their depth bound (samples [at, at + lanes)).
+    VF endWithoutCulling(int at) const {
+        const float far = rays_.farDepth();
+        if constexpr (!kEveryHit) return hn::Set(d_, rayEndAtDepth(far, rays_.depthPerLambda()));
+        const VF depth = hn::Load(d_, rays_.bestDepth + at);
+        const VF bound = hn::IfThenElse(hn::Lt(depth, hn::Set(d_, far)), depth, hn::Set(d_, far));
+        return hn::Mul(hn::Div(bound, hn::Set(d_, rays_.depthPerLambda())),
+                       hn::Set(d_, 1.0f + kDepthTieWidening));
+    }
+
     template <bool kAtOrigin>
     ListedRays listedAt(const RayList& list, int i) const {
-        if constexpr (kAtOrigin)
-            return {hn::LoadU(d_, list.time + i), hn::LoadU(d_, list.inverseX + i),
-                    hn::LoadU(d_, list.inverseY + i), hn::Zero(d_), hn::Zero(d_)};
-        return {hn::LoadU(d_, list.time + i), hn::LoadU(d_, list.inverseX + i),
-                hn::LoadU(d_, list.inverseY + i), hn::LoadU(d_, list.slabC[0] + i),
-                hn::LoadU(d_, list.slabC[1] + i)};
+        ListedRays r{hn::LoadU(d_, list.time + i), hn::LoadU(d_, list.inverseX + i),
+                     hn::LoadU(d_, list.inverseY + i), hn::Zero(d_), hn::Zero(d_)};
+        if constexpr (!kAtOrigin) {
+            r.c0 = hn::LoadU(d_, list.slabC[0] + i);
+            r.c1 = hn::LoadU(d_, list.slabC[1] + i);
+        }
+        return r;
     }
 
     // Appends the lanes `keep` of a vector of rays to `out`, which holds `count`; returns the new
