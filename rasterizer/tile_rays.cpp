@@ -86,6 +86,25 @@ TileRays::TileRays(const TileRayFrame& frame) : frame_(frame) {
     vertices_ = hwy::AllocateAligned<float>(std::size_t(3 * 3 * kMaxLeafTriangles * kMaxLanes));
 }
 
+std::uint64_t TileRays::bytesFor(int tileSize, int samplesPerPixel, bool countPerSample,
+                                 bool generatesSamples) {
+    const auto pixels = std::uint64_t(tileSize) * std::uint64_t(tileSize);
+    const std::uint64_t samples = pixels * std::uint64_t(samplesPerPixel);
+    const std::uint64_t n = (samples + kMaxLanes - 1) / kMaxLanes * kMaxLanes;
+    const std::uint64_t listStride = n + kMaxLanes, listSlots = 2 * kMaxStreamLevels;
+    std::uint64_t bytes = n * (kFloatArrays * sizeof(float) + kIntArrays * sizeof(std::int32_t));
+    if (countPerSample) bytes += n * std::uint64_t(SampleWork::kCount) * sizeof(std::uint32_t);
+    bytes += 2 * (n / kMaxLanes) * sizeof(std::uint16_t);  // changed_, improved_
+    bytes += listStride * listSlots * (sizeof(std::int32_t) + kListFloatArrays * sizeof(float));
+    bytes += std::uint64_t(3 * 3 * kMaxLeafTriangles * kMaxLanes) * sizeof(float);  // vertices_
+    bytes += samples * sizeof(std::uint16_t);                                       // bucket_
+    if (generatesSamples) bytes += samples * (sizeof(Sample) + sizeof(Vec2));
+    bytes +=
+        pixels * (2 * sizeof(std::uint16_t) + sizeof(std::array<int, 2>) + sizeof(PixelSamples));
+    bytes += std::uint64_t(kMaxTimeBuckets + 1) * sizeof(int);  // bucketBegin_
+    return bytes;
+}
+
 void TileRays::indexRange(TimeRange times, int& first, int& last) const {
     if (times.isEmpty()) {
         first = last = 0;

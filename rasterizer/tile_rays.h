@@ -78,6 +78,11 @@ class TileRays {
   public:
     // Allocates for the frame's largest tile; nothing is allocated per tile afterwards.
     explicit TileRays(const TileRayFrame& frame);
+    // What that allocation comes to for tiles of `tileSize` pixels at `samplesPerPixel` (with
+    // per-sample work kept, and with the tile's samples generated rather than read from a table):
+    // each rasterizer worker holds one, so a frame's memory budget counts it once per worker.
+    static std::uint64_t bytesFor(int tileSize, int samplesPerPixel, bool countPerSample,
+                                  bool generatesSamples);
 
     // Makes the rays of tile `rect`; each sample's nearest hit so far comes from `buffer` (unless
     // the frame says it starts empty).

@@ -275,6 +275,21 @@ TEST(Cli, RenderRejectsBadRasterizerOptions) {
               std::string::npos)
         << r.output;
     EXPECT_FALSE(fs::exists(dir + "/image.png"));
+    // Legal tiles whose ray scratch, one per rasterizer worker, with the film exceeds the memory
+    // budget: 2 tiles of 256x256 at 16 spp, so 2 workers even when 16 threads are asked for.
+    r = run("render -q -o " + dir + " --tile-size 256 --threads 16 --memory-budget-mib 1024");
+    EXPECT_EQ(r.exitCode, 2);
+    EXPECT_NE(r.output.find("builtin:default.json: rasterizer.tile_size: tiles of 256x256 pixels "
+                            "at 16 spp need"),
+              std::string::npos)
+        << r.output;
+    EXPECT_NE(r.output.find("in each of 2 rasterizer workers"), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("over the memory budget of 1024 MiB"), std::string::npos) << r.output;
+    EXPECT_FALSE(fs::exists(dir + "/image.png"));
+    // One worker's scratch fits the same budget.
+    r = run("render -q -o " + dir + " --tile-size 256 --threads 1 --memory-budget-mib 1024");
+    EXPECT_EQ(r.exitCode, 0) << r.output;
+    EXPECT_TRUE(fs::exists(dir + "/image.png"));
 }
 
 TEST(Cli, VerifyTilesReportsEveryVariantWithoutFalseRejects) {

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include "pipeline/core/error.h"
+#include "pipeline/core/hardware_config.h"
 #include "pipeline/core/scene_reader.h"
 #include "tests/test_paths.h"
 
@@ -107,6 +108,31 @@ TEST(Explore, GridValuesAreCheckedLikeTheSceneAndHardwareFiles) {
         EXPECT_NE(errorOf(grid).find("grid.json: " + field), std::string::npos)
             << grid << " -> " << errorOf(grid);
     }
+}
+
+// A grid point whose tiles' ray scratch, with the film, exceeds the budget is refused, naming the
+// grid, before any job renders.
+TEST(Explore, GridTileScratchIsHeldToTheMemoryBudgetBeforeAnyRender) {
+    const ExploreGrid grid =
+        parseExploreGrid(R"({"rasterizer": {"tile_size": [8, 256]}})", "grid.json");
+    const std::vector<SceneDesc> scenes = {readSceneFile(test::sourcePath("scenes/motion.json"))};
+    SceneLimits limits;
+    limits.memoryBudgetBytes = std::uint64_t(256) << 20;
+    int rendered = 0;
+    try {
+        runExploreJobs(
+            scenes, grid, defaultHardwareConfig(), 2, limits, [](std::size_t) { return true; },
+            [&](std::size_t, const std::vector<ExploreRow>&) { ++rendered; });
+        ADD_FAILURE() << "no error";
+    } catch (const InputError& e) {
+        EXPECT_NE(std::string(e.what()).find("grid.json: rasterizer.tile_size: tiles of 256x256"),
+                  std::string::npos)
+            << e.what();
+        EXPECT_NE(std::string(e.what()).find("over the memory budget of 256 MiB"),
+                  std::string::npos)
+            << e.what();
+    }
+    EXPECT_EQ(rendered, 0);
 }
 
 TEST(Explore, GridFilmIsHeldToTheMemoryBudget) {

@@ -1,6 +1,7 @@
 #include "rasterizer/tile_rays.h"
 
 #include <gtest/gtest.h>
+#include <malloc.h>
 
 #include <algorithm>
 #include <cstring>
@@ -225,6 +226,45 @@ TEST(TileRays, EveryRayStartsEndingAtItsDepthBound) {
 }
 
 // Only the samples that got a nearer hit in the tile are written back, with their time and lens.
+// The heap's bytes in use (small blocks and mapped ones): glibc's count, independent of the
+// estimate under test.
+std::uint64_t heapBytesInUse() {
+    const struct mallinfo2 info = mallinfo2();
+    return std::uint64_t(info.uordblks) + std::uint64_t(info.hblkhd);
+}
+
+TEST(TileRays, BytesForIsWhatConstructionAllocates) {
+    {  // A sanitizer's allocator keeps its own books, which mallinfo2 does not see.
+        const std::uint64_t before = heapBytesInUse();
+        const std::vector<char> probe(std::size_t(1) << 20, 1);
+        if (heapBytesInUse() - before < probe.size())
+            GTEST_SKIP() << "the allocator does not report its bytes in use (a sanitizer build)";
+    }
+    struct Shape {
+        int tileSize, spp;
+        bool counting, generated;
+    };
+    for (const Shape shape : {Shape{32, 16, false, true}, Shape{64, 8, true, true},
+                              Shape{16, 64, true, false}, Shape{128, 4, false, false}}) {
+        const TileGrid grid{2 * shape.tileSize, shape.tileSize, shape.tileSize};
+        Frame f(SamplePattern::Stratified, true, 0.2f, 40.0f, grid, shape.spp);
+        f.tiles.countPerSample = shape.counting;
+        const SampleTable table(f.generator, grid.width, grid.height, 1);
+        if (!shape.generated) f.tiles.samples.table = &table;
+        const std::uint64_t before = heapBytesInUse();
+        const auto rays = std::make_unique<TileRays>(f.tiles);
+        const std::uint64_t allocated = heapBytesInUse() - before;
+        const std::uint64_t estimate =
+            TileRays::bytesFor(shape.tileSize, shape.spp, shape.counting, shape.generated);
+        SCOPED_TRACE(testing::Message() << shape.tileSize << " px at " << shape.spp << " spp");
+        // Each allocation carries a few bytes of the allocator's own (and an aligned one up to
+        // a page): far less than the smallest per-sample array the estimate could leave out.
+        const std::uint64_t samples = std::uint64_t(shape.tileSize * shape.tileSize * shape.spp);
+        EXPECT_GE(allocated, estimate);
+        EXPECT_LT(allocated - estimate, samples * sizeof(std::uint16_t));
+    }
+}
+
 TEST(TileRays, StoreWritesBackOnlyChangedSamples) {
     Frame f(SamplePattern::Stratified, true, 0.2f);
     VisibilityBuffer buffer(kGrid.width, kGrid.height, 9, f.camera.farPlane());

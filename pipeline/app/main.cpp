@@ -73,7 +73,7 @@ void addCommonOptions(CLI::App& cmd, CommonOptions& common, bool effects) {
     cmd.add_option("--threads", common.threads, "Worker threads (0: all cores)")
         ->check(kThreadCount);
     cmd.add_option("--memory-budget-mib", common.memoryBudgetMiB,
-                   "Largest film the scene may ask for, in MiB of per-sample state")
+                   "MiB the film's samples and the rasterizer's tile scratch may take")
         ->check(kBudgetMiB);
     if (effects) {
         cmd.add_flag("--no-motion", common.overrides.disableMotion, "Do not simulate motion blur");
@@ -228,6 +228,7 @@ int runRender(const RenderCommand& r, const MpiContext& mpi) {
     options.tfragmentTimeSampled = r.timeSampled;
     options.overrides = r.common.overrides;
     options.threads = mpi.threadsPerRank(r.common.threads);
+    options.memoryBudgetBytes = limitsOf(r.common.memoryBudgetMiB).memoryBudgetBytes;
     options.maxLayers = r.maxLayers;
     options.resolve.filter = r.filter == "gaussian" ? ResolveFilter::Gaussian : ResolveFilter::Box;
     options.resolve.shadingRate = r.shadingRate == "per-pixel-primitive"
@@ -439,6 +440,7 @@ int runSweepCommand(const SweepCommand& c) {
     o.render.tfragment = c.tfragment;
     o.hardware = c.hardware.empty() ? defaultHardwareConfig() : readHardwareConfig(c.hardware);
     o.limits = limitsOf(c.memoryBudgetMiB);
+    o.render.memoryBudgetBytes = o.limits.memoryBudgetBytes;
     o.outputDir = c.output;
     o.progress = !c.noProgress;
     std::vector<SweepScene> scenes;
@@ -627,7 +629,7 @@ int main(int argc, char** argv) {
     sweep->add_option("--hw", sweepOptions.hardware, "Hardware configuration for modelled cycles");
     sweep
         ->add_option("--memory-budget-mib", sweepOptions.memoryBudgetMiB,
-                     "Largest film a run may ask for, in MiB of per-sample state")
+                     "MiB a run's film samples and tile scratch may take")
         ->check(kBudgetMiB);
     sweep->add_flag("--no-progress", sweepOptions.noProgress, "No progress bar");
 
@@ -647,7 +649,7 @@ int main(int argc, char** argv) {
         ->check(kThreadCount);
     explore
         ->add_option("--memory-budget-mib", exploreOptions.memoryBudgetMiB,
-                     "Largest film a scene or the grid may ask for, in MiB of per-sample state")
+                     "MiB a grid point's film samples and tile scratch may take")
         ->check(kBudgetMiB);
 
     try {

@@ -52,8 +52,8 @@ struct RasterizerOptions {
 };
 
 // The most samples a tile may hold: each rasterizer worker keeps one tile's rays and the ray lists
-// of a descent, about 500 bytes a sample (rasterizer/tile_rays.h), so 2^20 is some 500 MiB a
-// worker.
+// of a descent, about 500 bytes a sample (TileRays::bytesFor), so 2^20 is some 500 MiB a worker.
+// A render also holds the film and every worker's scratch to the memory budget (render.cpp).
 inline constexpr std::int64_t kMaxTileSamples = std::int64_t(1) << 20;
 
 inline constexpr int kMaxLeavesPerHierarchy = 64;

@@ -126,6 +126,17 @@ SceneDesc jobScene(const std::vector<SceneDesc>& scenes, const ExploreGrid& grid
     return scene;
 }
 
+namespace {
+
+RenderOptions jobRenderOptions(int threads, const SceneLimits& limits) {
+    RenderOptions options;
+    options.threads = threads;
+    options.memoryBudgetBytes = limits.memoryBudgetBytes;
+    return options;
+}
+
+}  // namespace
+
 std::vector<ExploreJob> exploreJobs(std::size_t sceneCount, const ExploreGrid& grid) {
     std::vector<ExploreJob> jobs;
     const auto raster = crossProduct(grid.rasterAxes);
@@ -150,8 +161,7 @@ std::vector<ExploreRow> runExploreJob(const std::vector<SceneDesc>& scenes, cons
                                       int threads, const SceneLimits& limits) {
     const ExploreJob job = exploreJobs(scenes.size(), grid)[jobIndex];
     const SceneDesc scene = jobScene(scenes, grid, job, limits);
-    RenderOptions options;
-    options.threads = threads;
+    const RenderOptions options = jobRenderOptions(threads, limits);
     CounterRegistry::instance().reset();
     const RenderResult result = renderScene(scene, options);
     const CounterValues counters = CounterRegistry::instance().snapshot();
@@ -218,7 +228,12 @@ void runExploreJobs(const std::vector<SceneDesc>& scenes, const ExploreGrid& gri
                     const std::function<bool(std::size_t)>& mine,
                     const std::function<void(std::size_t, const std::vector<ExploreRow>&)>& emit) {
     const std::vector<ExploreJob> jobs = exploreJobs(scenes.size(), grid);
-    for (const ExploreJob& job : jobs) jobScene(scenes, grid, job, limits);
+    // Every job's tiles and memory before the first render.
+    for (const ExploreJob& job : jobs) {
+        const SceneDesc scene = jobScene(scenes, grid, job, limits);
+        scene.rasterizer.validateTileSamples(scene.film.samplesPerPixel, grid.path);
+        checkFrameMemory(scene, jobRenderOptions(threads, limits), grid.path);
+    }
     for (std::size_t j = 0; j < jobs.size(); ++j)
         if (mine(j)) emit(j, runExploreJob(scenes, grid, baseHardware, j, threads, limits));
 }

@@ -1,5 +1,6 @@
 #include "pipeline/driver/render.h"
 
+#include <algorithm>
 #include <chrono>
 #include <numeric>
 #include <random>
@@ -12,6 +13,7 @@
 #include "rasterizer/bounding_rasterizer.h"
 #include "rasterizer/frame_rasterizer.h"
 #include "rasterizer/reference_rasterizer.h"
+#include "rasterizer/tile_rays.h"
 #include "tessellator/front_end.h"
 
 namespace patchsim {
@@ -284,6 +286,34 @@ void chargeApproximateWork(const ApproximateWork& w, PatchOps& last) {
 
 }  // namespace
 
+void checkFrameMemory(const SceneDesc& scene, const RenderOptions& options,
+                      const std::string& source) {
+    if (!usesPatchRasterizer(options.method)) return;
+    const int workers = resolveThreadCount(options.threads);
+    const FilmDesc& film = scene.film;
+    const int tileSize = scene.rasterizer.tileSize;
+    const std::int64_t tiles = std::int64_t((film.width + tileSize - 1) / tileSize) *
+                               std::int64_t((film.height + tileSize - 1) / tileSize);
+    const auto rasterWorkers = std::uint64_t(
+        std::min({std::int64_t(workers), std::int64_t(TransparentLayers::kPools), tiles}));
+    const std::uint64_t scratch =
+        TileRays::bytesFor(tileSize, film.samplesPerPixel, options.heatMaps, true);
+    const std::uint64_t total = filmBytes(film) + rasterWorkers * scratch;
+    if (total <= options.memoryBudgetBytes) return;
+    const auto mib = [](std::uint64_t bytes) {
+        return std::to_string((bytes + (1u << 20) - 1) >> 20);
+    };
+    throw InputError(
+        source, "rasterizer.tile_size",
+        "tiles of " + std::to_string(tileSize) + "x" + std::to_string(tileSize) + " pixels at " +
+            std::to_string(film.samplesPerPixel) + " spp need " + mib(scratch) +
+            " MiB of ray scratch in each of " + std::to_string(rasterWorkers) +
+            " rasterizer workers (--threads); with the film's " + mib(filmBytes(film)) +
+            " MiB that is " + mib(total) + " MiB, over the memory budget of " +
+            std::to_string(options.memoryBudgetBytes >> 20) +
+            " MiB (--memory-budget-mib): use smaller tiles or fewer threads");
+}
+
 RenderResult renderScene(const SceneDesc& scene, const RenderOptions& options) {
     scene.rasterizer.validate(scene.path);
     scene.rasterizer.validateTileSamples(scene.film.samplesPerPixel, scene.path);
@@ -291,6 +321,7 @@ RenderResult renderScene(const SceneDesc& scene, const RenderOptions& options) {
         throw InputError("command line", "--max-layers", "must be in [1, 255]");
     RenderResult result;
     const int workers = resolveThreadCount(options.threads);
+    checkFrameMemory(scene, options, scene.path);
     auto start = std::chrono::steady_clock::now();
     const FrontEnd frontEnd(scene);
     result.effects =

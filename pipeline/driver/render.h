@@ -24,6 +24,7 @@
 #include "pipeline/core/progress.h"
 #include "pipeline/core/rasterizer_options.h"
 #include "pipeline/core/scene.h"
+#include "pipeline/core/scene_reader.h"
 #include "pipeline/core/visibility_method.h"
 #include "pipeline/driver/timing_model.h"
 #include "rasterizer/pixel_counters.h"
@@ -60,6 +61,8 @@ struct RenderOptions {
     bool heatMaps = false;             // collect per-pixel work
     bool progress = false;             // progress bar (when standard error is a terminal)
     std::uint64_t patchOrderSeed = 0;  // > 0: rasterize patches in a shuffled order (tests)
+    // The film and the patch rasterizer's per-worker scratch must fit (--memory-budget-mib).
+    std::uint64_t memoryBudgetBytes = SceneLimits{}.memoryBudgetBytes;
     FrameShare share;
 };
 
@@ -78,6 +81,12 @@ struct RenderResult {
 };
 
 RenderResult renderScene(const SceneDesc& scene, const RenderOptions& options);
+
+// Throws InputError(source, "rasterizer.tile_size") when the film and the patch rasterizer's tile
+// scratch, one per worker (TileRays::bytesFor), exceed options.memoryBudgetBytes. renderScene
+// checks before it allocates; the scene's reader checked the film alone.
+void checkFrameMemory(const SceneDesc& scene, const RenderOptions& options,
+                      const std::string& source);
 
 // The sample test efficiency of a method's last frame, from its own counters.
 const RatioCounter& sampleTestEfficiencyOf(VisibilityMethod method);
