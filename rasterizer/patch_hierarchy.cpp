@@ -129,6 +129,28 @@ void PatchHierarchy::buildOrdered(const MovingMesh& mesh, const std::uint32_t* t
         nodes_[std::size_t(i)] = nodes_[std::size_t(2 * i + 1)];
         nodes_[std::size_t(i)].extend(nodes_[std::size_t(2 * i + 2)]);
     }
+    makeLeafVertices(mesh);
+}
+
+void PatchHierarchy::makeLeafVertices(const MovingMesh& mesh) {
+    static_assert(3 * kMaxLeafTriangles <= 256, "a corner's index must fit a byte");
+    const int leaves = leafCount();
+    vertices_.clear();
+    vertices_.reserve(3 * triangles_.size());
+    vertexBegin_.assign(std::size_t(leaves) + 1, 0);
+    corners_.resize(3 * triangles_.size());
+    for (int j = 0; j < leaves; ++j) {
+        const std::size_t begin = vertices_.size();
+        for (std::uint32_t k = leafBegin_[std::size_t(j)]; k < leafBegin_[std::size_t(j) + 1]; ++k)
+            for (std::size_t corner = 0; corner < 3; ++corner) {
+                const std::uint32_t v = mesh.indices[3 * std::size_t(triangles_[k]) + corner];
+                std::size_t at = begin;
+                while (at < vertices_.size() && vertices_[at] != v) ++at;
+                if (at == vertices_.size()) vertices_.push_back(v);
+                corners_[3 * std::size_t(k) + corner] = std::uint8_t(at - begin);
+            }
+        vertexBegin_[std::size_t(j) + 1] = std::uint32_t(vertices_.size());
+    }
 }
 
 std::size_t PatchHierarchy::bytes() const {

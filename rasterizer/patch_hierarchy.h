@@ -7,7 +7,8 @@
 // and all leaves sit on the bottom level `depth`, so leaf j is node (2^depth - 1 + j) and the
 // leaves' bit mask is laid out in memory order (bit j for leaf j; at most 64 leaves). Each node
 // holds an LBBox (box at t=0 and at t=1). Leaves hold up to `leafSize` triangles, listed in
-// `triangles` from `leafBegin[j]` to `leafBegin[j+1]`.
+// `triangles` from `leafBegin[j]` to `leafBegin[j+1]`; beside them, each leaf's distinct vertices
+// (from `vertexBegin[j]`) and its triangles' corners among those (`corners`, three per triangle).
 //
 // Built from the tessellator's implicit grid: triangles are ordered by their domain centroids,
 // split in half by u at even levels and by v at odd levels, so each subtree covers a compact
@@ -52,7 +53,22 @@ class PatchHierarchy {
         count = e - b;
         return triangles_.data() + b;
     }
-    // Bytes the hierarchy would occupy on chip: node boxes plus leaf triangle lists.
+    // Leaf j's distinct vertices (mesh vertex indices, `count` of them; a tessellated grid's
+    // triangles share most corners), and its triangles' corners as indices into them, three per
+    // triangle of leafTriangles(j). The ray kernels move each vertex to a vector of rays once,
+    // not once per corner; made once per build, not at each of a leaf's many visits.
+    const std::uint32_t* leafVertices(int leaf, std::size_t& count) const {
+        const std::uint32_t b = vertexBegin_[std::size_t(leaf)],
+                            e = vertexBegin_[std::size_t(leaf) + 1];
+        count = e - b;
+        return vertices_.data() + b;
+    }
+    const std::uint8_t* leafCorners(int leaf) const {
+        return corners_.data() + 3 * std::size_t(leafBegin_[std::size_t(leaf)]);
+    }
+    // Bytes the hierarchy would occupy on chip: node boxes plus leaf triangle lists. (The vertex
+    // table above is how the simulator lays out a leaf for its SIMD kernels, not modelled
+    // storage: the triangle lists already say which vertices a leaf reads.)
     std::size_t bytes() const;
 
   private:
@@ -60,6 +76,9 @@ class PatchHierarchy {
     std::vector<LBBox> nodes_;
     std::vector<std::uint32_t> triangles_;
     std::vector<std::uint32_t> leafBegin_;
+    std::vector<std::uint32_t> vertices_, vertexBegin_;
+    std::vector<std::uint8_t> corners_;
+    void makeLeafVertices(const MovingMesh& mesh);
 };
 
 // Orders all triangles of a mesh by the implicit-grid split and cuts them into groups of at most

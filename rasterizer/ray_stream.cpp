@@ -438,24 +438,11 @@ class Pass {
                 hn::Mul(r.shearZ, kz)};
     }
 
-    // The leaf's distinct vertices (a tessellated grid's triangles share most corners), each
-    // triangle's corners as indices into them.
-    void leafVertices(const std::uint32_t* triangles, std::size_t count) {
-        vertexCount_ = 0;
-        for (std::size_t c = 0; c < 3 * count; ++c) {
-            const std::uint32_t v = mesh_.indices[3 * std::size_t(triangles[c / 3]) + c % 3];
-            int k = 0;
-            while (k < vertexCount_ && vertices_[k] != v) ++k;
-            if (k == vertexCount_) vertices_[vertexCount_++] = v;
-            corners_[c] = std::uint8_t(k);
-        }
-    }
-
     // Every distinct vertex of the leaf sheared for this vector of rays, into the scratch.
     void shearVertices(const LaneRays& r) {
         float* out = rays_.vertexScratch();
         const std::size_t n = std::size_t(lanes_);
-        for (int k = 0; k < vertexCount_; ++k) {
+        for (std::size_t k = 0; k < vertexCount_; ++k) {
             const ShearedVertex v = shear(r, vertices_[k]);
             hn::Store(v.x, d_, out + (3 * std::size_t(k)) * n);
             hn::Store(v.y, d_, out + (3 * std::size_t(k) + 1) * n);
@@ -525,10 +512,11 @@ class Pass {
 
     void leaf(int node, const RayList& in, int n) {
         std::size_t count;
-        const std::uint32_t* triangles =
-            h_.leafTriangles(node - PatchHierarchy::firstLeaf(h_.depth()), count);
+        const int leafIndex = node - PatchHierarchy::firstLeaf(h_.depth());
+        const std::uint32_t* triangles = h_.leafTriangles(leafIndex, count);
         if (count == 0) return;
-        leafVertices(triangles, count);
+        vertices_ = h_.leafVertices(leafIndex, vertexCount_);
+        corners_ = h_.leafCorners(leafIndex);
         for (int i = 0; i < n; i += lanes_) {
             MF active;
             const Indices at = indicesAt(in.index, i, n, active);
@@ -692,10 +680,11 @@ class Pass {
     RasterWork& work_;
     const int lanes_;
     std::int64_t boxTests_ = 0, triangleTests_ = 0;
-    // The current leaf's distinct vertices and its triangles' corners among them.
-    std::uint32_t vertices_[3 * kMaxLeafTriangles];
-    std::uint8_t corners_[3 * kMaxLeafTriangles];
-    int vertexCount_ = 0;
+    // The current leaf's distinct vertices and its triangles' corners among them
+    // (PatchHierarchy::leafVertices).
+    const std::uint32_t* vertices_ = nullptr;
+    const std::uint8_t* corners_ = nullptr;
+    std::size_t vertexCount_ = 0;
     TimeRange times_[2 * kMaxLeavesPerHierarchy - 1];
 };
 

@@ -33,6 +33,7 @@
 #include <vector>
 
 #include "pipeline/core/camera.h"
+#include "pipeline/core/rasterizer_options.h"
 #include "pipeline/core/ray.h"
 #include "pipeline/core/samples.h"
 #include "pipeline/core/time_range.h"
@@ -48,8 +49,6 @@ class PixelCounters;
 // The widest vector the ray kernels use (16 floats: AVX-512); narrower targets split a batch.
 inline constexpr int kMaxLanes = 16;
 inline constexpr int kMaxTimeBuckets = 256;
-// The most triangles a leaf holds (rasterizer.leaf_size's limit).
-inline constexpr int kMaxLeafTriangles = 64;
 
 // What every tile of a frame shares.
 struct TileRayFrame {

@@ -61,6 +61,42 @@ TEST(PatchHierarchy, CompleteTreeOfLeavesHoldingEveryTriangleOnce) {
     }
 }
 
+// A leaf's vertex table names each corner's mesh vertex, lists each vertex once, and only those
+// its triangles use; a grid's leaf shares corners, so it has fewer vertices than corners.
+TEST(PatchHierarchy, LeafVerticesAreEachLeafsDistinctCorners) {
+    const MovingMesh mesh = movingGrid(8, 1);  // 128 triangles
+    for (int leafSize : {1, 4, 64}) {
+        std::vector<std::uint32_t> all(mesh.triangleCount());
+        for (std::size_t k = 0; k < all.size(); ++k) all[k] = std::uint32_t(k);
+        PatchHierarchy h;
+        h.build(mesh, all.data(), all.size(), leafSize);
+        std::size_t shared = 0;
+        for (int leaf = 0; leaf < h.leafCount(); ++leaf) {
+            std::size_t count, vertexCount;
+            const std::uint32_t* tris = h.leafTriangles(leaf, count);
+            const std::uint32_t* vertices = h.leafVertices(leaf, vertexCount);
+            const std::uint8_t* corners = h.leafCorners(leaf);
+            std::vector<std::uint32_t> used;
+            for (std::size_t k = 0; k < count; ++k)
+                for (std::size_t c = 0; c < 3; ++c) {
+                    ASSERT_LT(corners[3 * k + c], vertexCount) << "leaf " << leaf;
+                    EXPECT_EQ(vertices[corners[3 * k + c]], mesh.indices[3 * tris[k] + c])
+                        << "leaf " << leaf << " triangle " << k << " corner " << c;
+                    used.push_back(mesh.indices[3 * tris[k] + c]);
+                }
+            std::sort(used.begin(), used.end());
+            used.erase(std::unique(used.begin(), used.end()), used.end());
+            std::vector<std::uint32_t> listed(vertices, vertices + vertexCount);
+            std::sort(listed.begin(), listed.end());
+            EXPECT_EQ(listed, used) << "leaf " << leaf;
+            shared += 3 * count - vertexCount;
+        }
+        if (leafSize > 1) {
+            EXPECT_GT(shared, 0u) << "leaf size " << leafSize;
+        }
+    }
+}
+
 // Every node's moving box holds its children's, and a leaf's holds its triangles at any time:
 // a vertex blended to t lies in the box blended to t, bit for bit (no rounding can escape).
 TEST(PatchHierarchy, MovingBoxesBoundTheirTrianglesAtEveryTime) {

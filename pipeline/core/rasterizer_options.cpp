@@ -96,7 +96,9 @@ const std::vector<RasterizerOptionField> kFields = {
     {"tile_size", "--tile-size", "Tile side in pixels (1..256)",
      [](RasterizerOptions& o, const Json& j) { return integerIn(j, 1, 256, o.tileSize); }},
     {"leaf_size", "--leaf-size", "Triangles per hierarchy leaf (1..64)",
-     [](RasterizerOptions& o, const Json& j) { return integerIn(j, 1, 64, o.leafSize); }},
+     [](RasterizerOptions& o, const Json& j) {
+         return integerIn(j, 1, kMaxLeafTriangles, o.leafSize);
+     }},
     {"bounds_level", "--bounds-level",
      "Hierarchy level whose boxes give the screen bounds (0 = root .. 6)",
      [](RasterizerOptions& o, const Json& j) { return integerIn(j, 0, 6, o.boundsLevel); }},

@@ -57,6 +57,8 @@ struct RasterizerOptions {
 inline constexpr std::int64_t kMaxTileSamples = std::int64_t(1) << 20;
 
 inline constexpr int kMaxLeavesPerHierarchy = 64;
+// The most triangles a leaf holds (rasterizer.leaf_size's limit).
+inline constexpr int kMaxLeafTriangles = 64;
 
 struct RasterizerOptionField {
     const char* key;   // "tile_size"
