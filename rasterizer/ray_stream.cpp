@@ -208,14 +208,17 @@ class Pass {
     }
 
     // Appends the lanes `keep` of a vector of rays to `out`, which holds `count`; returns the new
-    // count. Every array has room for a whole vector past its end.
-    template <bool kAtOrigin>
+    // count. Every array has room for a whole vector past its end. kToLeaf: `out` goes to a leaf,
+    // which reads only the indices and times, so the box-test data is not written.
+    template <bool kAtOrigin, bool kToLeaf = false>
     int append(const RayList& out, int count, MF keep, VI index, const ListedRays& r) const {
         hn::StoreU(hn::Compress(index, hn::RebindMask(di_, keep)), di_, out.index + count);
         hn::StoreU(hn::Compress(r.time, keep), d_, out.time + count);
-        hn::StoreU(hn::Compress(r.inverseX, keep), d_, out.inverseX + count);
-        hn::StoreU(hn::Compress(r.inverseY, keep), d_, out.inverseY + count);
-        if constexpr (!kAtOrigin) {
+        if constexpr (!kToLeaf) {
+            hn::StoreU(hn::Compress(r.inverseX, keep), d_, out.inverseX + count);
+            hn::StoreU(hn::Compress(r.inverseY, keep), d_, out.inverseY + count);
+        }
+        if constexpr (!kAtOrigin && !kToLeaf) {
             hn::StoreU(hn::Compress(r.c0, keep), d_, out.slabC[0] + count);
             hn::StoreU(hn::Compress(r.c1, keep), d_, out.slabC[1] + count);
         }
@@ -272,7 +275,7 @@ class Pass {
 
     // One vector of rays (`index`, `valid`, `rays`, their slab constants `s`) against one child:
     // those whose time is in its range and that meet its box are appended to its list.
-    template <bool kStill, bool kAtOrigin>
+    template <bool kStill, bool kAtOrigin, bool kToLeaf>
     void testChild(ChildTest& c, VI index, MF valid, const ListedRays& rays,
                    const SlabLanes<kStill, kAtOrigin>& s) {
         const VF t = rays.time;
@@ -283,12 +286,12 @@ class Pass {
         if (kCount) addWork(SampleWork::BoxTests, index, active, 1);
         MF hit = hn::And(active, hitsBox(*c.box, s));
         if (rays_.anyParallel()) hit = parallelLanes(*c.box, index, active, hit);
-        c.count = append<kAtOrigin>(c.out, c.count, hit, index, rays);
+        c.count = append<kAtOrigin, kToLeaf>(c.out, c.count, hit, index, rays);
     }
 
     // The rays of `in` (n of them) against the live ones of `children` (1 or 2): each vector's
-    // data is loaded once for both boxes.
-    template <bool kStill, bool kAtOrigin>
+    // data is loaded once for both boxes. kToLeaf: the children are leaves.
+    template <bool kStill, bool kAtOrigin, bool kToLeaf>
     HWY_NOINLINE void filter(const RayList& in, int n, ChildTest* children, int count) {
         for (int i = 0; i < n; i += lanes_) {
             MF valid;
@@ -296,7 +299,8 @@ class Pass {
             const ListedRays rays = listedAt<kAtOrigin>(in, i);
             const auto s =
                 SlabLanes<kStill, kAtOrigin>::of(d_, rays_, rays, fetch(d_, rays_.rayEnd, at));
-            for (int c = 0; c < count; ++c) testChild(children[c], at.index, valid, rays, s);
+            for (int c = 0; c < count; ++c)
+                testChild<kStill, kAtOrigin, kToLeaf>(children[c], at.index, valid, rays, s);
         }
     }
 
@@ -368,15 +372,23 @@ class Pass {
         if (count == 0) return;
         const bool still = rays_.allAtShutterOpen(), atOrigin = rays_.allAtOrigin();
         if (still && atOrigin)
-            filter<true, true>(in, n, tests, count);
+            filterInto<true, true>(in, n, tests, count, h_.isLeaf(first));
         else if (still)
-            filter<true, false>(in, n, tests, count);
+            filterInto<true, false>(in, n, tests, count, h_.isLeaf(first));
         else if (atOrigin)
-            filter<false, true>(in, n, tests, count);
+            filterInto<false, true>(in, n, tests, count, h_.isLeaf(first));
         else
-            filter<false, false>(in, n, tests, count);
+            filterInto<false, false>(in, n, tests, count, h_.isLeaf(first));
         for (int c = 0; c < count; ++c)
             if (tests[c].count > 0) descend(nodes[c], tests[c].out, tests[c].count, level + 1);
+    }
+
+    template <bool kStill, bool kAtOrigin>
+    void filterInto(const RayList& in, int n, ChildTest* children, int count, bool toLeaves) {
+        if (toLeaves)
+            filter<kStill, kAtOrigin, true>(in, n, children, count);
+        else
+            filter<kStill, kAtOrigin, false>(in, n, children, count);
     }
 
     LaneRays fetchRays(const Indices& at, VF time) const {
