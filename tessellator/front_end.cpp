@@ -2,9 +2,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <exception>
 
 #include "pipeline/core/counters.h"
 #include "pipeline/core/error.h"
+#include "pipeline/core/parallel.h"
 #include "tessellator/patch_boundary.h"
 
 namespace patchsim {
@@ -47,32 +49,54 @@ Vec3 safeNormal(const Vec3& du, const Vec3& dv) {
 
 }  // namespace
 
-FrontEnd::FrontEnd(const SceneDesc& scene)
+namespace {
+
+// Object i of the scene: its cage (and shutter-close cage), limit surface and vertex stage.
+SceneObject makeObject(const SceneDesc& scene, std::size_t i) {
+    const ObjectDesc& desc = scene.objects[i];
+    const std::string field = "objects[" + std::to_string(i) + "]";
+    SceneObject object;
+    object.desc = desc;
+    object.cage = readObjCage(desc.cagePath, scene.path, field + ".cage");
+    std::unique_ptr<Cage> closeCage;
+    if (!desc.cageClosePath.empty()) {
+        closeCage = std::make_unique<Cage>(
+            readObjCage(desc.cageClosePath, scene.path, field + ".cage_close"));
+        if (closeCage->faceSizes != object.cage.faceSizes ||
+            closeCage->faceVertices != object.cage.faceVertices)
+            throw InputError(scene.path, field + ".cage_close",
+                             "'" + desc.cageClosePath + "' does not have the topology of '" +
+                                 desc.cagePath + "'");
+    }
+    object.mesh = std::make_unique<SubdivisionMesh>(object.cage, desc.scheme, desc.cagePath);
+    object.points = runVertexStage(desc, object.cage, closeCage.get(), scene.shutter);
+    return object;
+}
+
+}  // namespace
+
+FrontEnd::FrontEnd(const SceneDesc& scene, int threads)
     : scene_(scene), camera_(scene.camera, scene.shutter, scene.film.width, scene.film.height) {
     hull_.partitioning = scene.tessellation.partitioning;
     hull_.insideReduction = scene.tessellation.insideReduction;
-    patchOffsets_.push_back(0);
-    for (std::size_t i = 0; i < scene.objects.size(); ++i) {
-        const ObjectDesc& desc = scene.objects[i];
-        const std::string field = "objects[" + std::to_string(i) + "]";
-        SceneObject object;
-        object.desc = desc;
-        object.cage = readObjCage(desc.cagePath, scene.path, field + ".cage");
-        std::unique_ptr<Cage> closeCage;
-        if (!desc.cageClosePath.empty()) {
-            closeCage = std::make_unique<Cage>(
-                readObjCage(desc.cageClosePath, scene.path, field + ".cage_close"));
-            if (closeCage->faceSizes != object.cage.faceSizes ||
-                closeCage->faceVertices != object.cage.faceVertices)
-                throw InputError(scene.path, field + ".cage_close",
-                                 "'" + desc.cageClosePath + "' does not have the topology of '" +
-                                     desc.cagePath + "'");
+    // The objects are independent (OpenSubdiv's refiner factory is thread-safe; its error
+    // callback is guarded in subdivision_mesh.cpp): built on `threads`, each into its slot, and
+    // the first object in scene order that fails is the one reported, as one thread would.
+    const std::size_t count = scene.objects.size();
+    objects_.resize(count);
+    std::vector<std::exception_ptr> failures(count);
+    parallelFor(count, threads, [&](int, std::size_t i) {
+        try {
+            objects_[i] = makeObject(scene, i);
+        } catch (...) {
+            failures[i] = std::current_exception();
         }
-        object.mesh = std::make_unique<SubdivisionMesh>(object.cage, desc.scheme, desc.cagePath);
-        object.points = runVertexStage(desc, object.cage, closeCage.get(), scene.shutter);
+    });
+    for (const std::exception_ptr& failure : failures)
+        if (failure) std::rethrow_exception(failure);
+    patchOffsets_.push_back(0);
+    for (const SceneObject& object : objects_)
         patchOffsets_.push_back(patchOffsets_.back() + object.mesh->patches().size());
-        objects_.push_back(std::move(object));
-    }
 }
 
 bool FrontEnd::geometryMoves() const {

@@ -58,8 +58,9 @@ struct FrontEndWorkspace {
 
 class FrontEnd {
   public:
-    // Reads every cage; throws InputError naming the scene file and field on bad input.
-    explicit FrontEnd(const SceneDesc& scene);
+    // Reads every cage (the objects on `threads` workers); throws InputError naming the scene
+    // file and field on bad input.
+    explicit FrontEnd(const SceneDesc& scene, int threads = 1);
 
     const SceneDesc& scene() const { return scene_; }
     const Camera& camera() const { return camera_; }

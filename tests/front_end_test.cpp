@@ -360,5 +360,37 @@ TEST(FrontEnd, MissingCageNamesTheSceneField) {
     }
 }
 
+// Objects are built on several threads; the scene's objects come out in their order, each the
+// same as on one thread, and of two bad objects the first in the scene is the one reported.
+TEST(FrontEnd, ObjectsBuiltOnThreadsAreThoseOfOneThread) {
+    const SceneDesc scene = readSceneFile(test::sourcePath("scenes/motion_defocus.json"));
+    ASSERT_GE(scene.objects.size(), 2u);
+    const FrontEnd one(scene, 1), two(scene, 2);
+    ASSERT_EQ(one.patchCount(), two.patchCount());
+    for (std::size_t k = 0; k < scene.objects.size(); ++k)
+        EXPECT_EQ(one.objects()[k].cage.positions, two.objects()[k].cage.positions);
+    const auto a = tessellateAll(one), b = tessellateAll(two);
+    for (std::size_t i = 0; i < a.size(); ++i) {
+        ASSERT_EQ(a[i].tessellation.indices, b[i].tessellation.indices);
+        ASSERT_EQ(a[i].position[0], b[i].position[0]);
+        ASSERT_EQ(a[i].position[1], b[i].position[1]);
+    }
+    SceneDesc bad = scene;
+    bad.path = "scene.json";
+    bad.objects[0].cagePath = "/nonexistent/first.obj";
+    bad.objects[1].cagePath = "/nonexistent/second.obj";
+    for (int run = 0; run < 8; ++run) {
+        try {
+            FrontEnd fe(bad, 2);
+            FAIL() << "no error";
+        } catch (const InputError& e) {
+            EXPECT_NE(std::string(e.what()).find("scene.json: objects[0].cage: cannot open "
+                                                 "'/nonexistent/first.obj'"),
+                      std::string::npos)
+                << e.what();
+        }
+    }
+}
+
 }  // namespace
 }  // namespace patchsim

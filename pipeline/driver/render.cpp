@@ -323,7 +323,7 @@ RenderResult renderScene(const SceneDesc& scene, const RenderOptions& options) {
     const int workers = resolveThreadCount(options.threads);
     checkFrameMemory(scene, options, scene.path);
     auto start = std::chrono::steady_clock::now();
-    const FrontEnd frontEnd(scene);
+    const FrontEnd frontEnd(scene, workers);
     result.effects =
         applyOverrides(detectEffects(scene, frontEnd.geometryMoves(), frontEnd.camera().moves()),
                        options.overrides);
