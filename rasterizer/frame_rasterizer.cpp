@@ -14,14 +14,12 @@ namespace patchsim {
 namespace {
 
 // Every group of every unit, prepared (hierarchy and covered tiles); a unit's work goes to its
-// first patch.
+// first patch. The groups' hierarchies share the leaf vertex tables of `orders`.
 std::vector<std::vector<PatchRasterizer::Group>> prepareGroups(const RasterUnits& units,
                                                                const PatchRasterizer& rasterizer,
+                                                               const HierarchyOrders& orders,
                                                                int threads,
                                                                std::vector<RasterWork>& work) {
-    const RasterizerOptions& options = rasterizer.options();
-    const HierarchyOrders orders(units.meshes, options.trianglesPerGroup(), options.leafSize,
-                                 threads);
     std::vector<std::vector<PatchRasterizer::Group>> groups(units.meshes.size());
     parallelFor(units.meshes.size(), threads, [&](int, std::size_t u) {
         const MovingMesh& mesh = *units.meshes[u];
@@ -34,7 +32,8 @@ std::vector<std::vector<PatchRasterizer::Group>> prepareGroups(const RasterUnits
             if (begin[g] == begin[g + 1]) continue;
             groups[u].emplace_back();
             rasterizer.prepareGroup(mesh, order.triangles.data() + begin[g],
-                                    begin[g + 1] - begin[g], groups[u].back(), w);
+                                    begin[g + 1] - begin[g], groups[u].back(), w,
+                                    &order.leafTables[g]);
         }
     });
     return groups;
@@ -95,7 +94,9 @@ FrameRasterWork rasterizeFrame(const std::vector<MovingMesh>& meshes,
     const RasterizerOptions& ro = rasterizer.options();
     const RasterUnits units =
         makeRasterUnits(meshes, ro.mergeTrianglesBelow, ro.trianglesPerGroup());
-    const auto groups = prepareGroups(units, rasterizer, options.threads, work.hierarchies);
+    const HierarchyOrders orders(units.meshes, ro.trianglesPerGroup(), ro.leafSize,
+                                 options.threads);
+    const auto groups = prepareGroups(units, rasterizer, orders, options.threads, work.hierarchies);
     const RasterOrder raster = rasterOrder(unitOrder(units, order), groups);
     const TileGrid& grid = rasterizer.tileGrid();
     const TileBins bins(grid, raster.covered);

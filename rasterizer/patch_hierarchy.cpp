@@ -99,6 +99,8 @@ HierarchyOrder hierarchyOrder(const MovingMesh& mesh, int maxPerGroup, int leafS
     for (std::size_t g = 0; g + 1 < order.groupBegin.size(); ++g) {
         const std::size_t begin = order.groupBegin[g], count = order.groupBegin[g + 1] - begin;
         orderTriangles(mesh, order.triangles.data() + begin, count, depthFor(count, leafSize));
+        order.leafTables.push_back(
+            leafVertexTable(mesh, order.triangles.data() + begin, count, leafSize));
     }
     return order;
 }
@@ -111,7 +113,7 @@ void PatchHierarchy::build(const MovingMesh& mesh, const std::uint32_t* triangle
 }
 
 void PatchHierarchy::buildOrdered(const MovingMesh& mesh, const std::uint32_t* triangles,
-                                  std::size_t count, int leafSize) {
+                                  std::size_t count, int leafSize, const LeafVertexTable* shared) {
     depth_ = depthFor(count, leafSize);
     triangles_.assign(triangles, triangles + count);
     const int leaves = 1 << depth_;
@@ -129,28 +131,37 @@ void PatchHierarchy::buildOrdered(const MovingMesh& mesh, const std::uint32_t* t
         nodes_[std::size_t(i)] = nodes_[std::size_t(2 * i + 1)];
         nodes_[std::size_t(i)].extend(nodes_[std::size_t(2 * i + 2)]);
     }
-    makeLeafVertices(mesh);
+    sharedTable_ = shared;
+    if (shared)
+        ownTable_ = {};
+    else
+        ownTable_ = leafVertexTable(mesh, triangles, count, leafSize);
 }
 
-void PatchHierarchy::makeLeafVertices(const MovingMesh& mesh) {
+LeafVertexTable leafVertexTable(const MovingMesh& mesh, const std::uint32_t* triangles,
+                                std::size_t count, int leafSize) {
     static_assert(3 * kMaxLeafTriangles <= 256, "a corner's index must fit a byte");
-    const int leaves = leafCount();
-    vertices_.clear();
-    vertices_.reserve(3 * triangles_.size());
-    vertexBegin_.assign(std::size_t(leaves) + 1, 0);
-    corners_.resize(3 * triangles_.size());
-    for (int j = 0; j < leaves; ++j) {
-        const std::size_t begin = vertices_.size();
-        for (std::uint32_t k = leafBegin_[std::size_t(j)]; k < leafBegin_[std::size_t(j) + 1]; ++k)
+    const int depth = depthFor(count, leafSize);
+    std::vector<std::uint32_t> leafEnd(std::size_t(1) << depth);
+    halvedEnds(0, count, depth, leafEnd.data());
+    LeafVertexTable table;
+    table.vertices.reserve(3 * count);
+    table.vertexBegin.assign(leafEnd.size() + 1, 0);
+    table.corners.resize(3 * count);
+    std::size_t k = 0;
+    for (std::size_t j = 0; j < leafEnd.size(); ++j) {
+        const std::size_t begin = table.vertices.size();
+        for (; k < leafEnd[j]; ++k)
             for (std::size_t corner = 0; corner < 3; ++corner) {
-                const std::uint32_t v = mesh.indices[3 * std::size_t(triangles_[k]) + corner];
+                const std::uint32_t v = mesh.indices[3 * std::size_t(triangles[k]) + corner];
                 std::size_t at = begin;
-                while (at < vertices_.size() && vertices_[at] != v) ++at;
-                if (at == vertices_.size()) vertices_.push_back(v);
-                corners_[3 * std::size_t(k) + corner] = std::uint8_t(at - begin);
+                while (at < table.vertices.size() && table.vertices[at] != v) ++at;
+                if (at == table.vertices.size()) table.vertices.push_back(v);
+                table.corners[3 * k + corner] = std::uint8_t(at - begin);
             }
-        vertexBegin_[std::size_t(j) + 1] = std::uint32_t(vertices_.size());
+        table.vertexBegin[j + 1] = std::uint32_t(table.vertices.size());
     }
+    return table;
 }
 
 std::size_t PatchHierarchy::bytes() const {

@@ -8,7 +8,7 @@
 // leaves' bit mask is laid out in memory order (bit j for leaf j; at most 64 leaves). Each node
 // holds an LBBox (box at t=0 and at t=1). Leaves hold up to `leafSize` triangles, listed in
 // `triangles` from `leafBegin[j]` to `leafBegin[j+1]`; beside them, each leaf's distinct vertices
-// (from `vertexBegin[j]`) and its triangles' corners among those (`corners`, three per triangle).
+// and its triangles' corners among those (LeafVertexTable).
 //
 // Built from the tessellator's implicit grid: triangles are ordered by their domain centroids,
 // split in half by u at even levels and by v at odd levels, so each subtree covers a compact
@@ -29,15 +29,25 @@ namespace patchsim {
 inline constexpr int kMaxHierarchyDepth = 6;  // 2^6 = kMaxLeavesPerHierarchy leaves
 static_assert((1 << kMaxHierarchyDepth) == kMaxLeavesPerHierarchy);
 
+// Each leaf's distinct vertices (mesh vertex indices) from vertexBegin[j], and its triangles'
+// corners among them, three per triangle in build order: for one group, made by
+// leafVertexTable. It depends only on the index triples, so patches of one tessellation pattern
+// share it (HierarchyOrder).
+struct LeafVertexTable {
+    std::vector<std::uint32_t> vertices, vertexBegin;
+    std::vector<std::uint8_t> corners;
+};
+
 class PatchHierarchy {
   public:
     // `triangles` are indices into `mesh` triangles (one group).
     void build(const MovingMesh& mesh, const std::uint32_t* triangles, std::size_t count,
                int leafSize);
     // The same tree from triangles already in the order `build` puts them in (a group of
-    // hierarchyOrder): the boxes only.
+    // hierarchyOrder): the boxes, and the leaves' vertex table: `shared` (the group's in its
+    // HierarchyOrder, which must outlive this hierarchy) or, without one, made here.
     void buildOrdered(const MovingMesh& mesh, const std::uint32_t* triangles, std::size_t count,
-                      int leafSize);
+                      int leafSize, const LeafVertexTable* shared = nullptr);
 
     int depth() const { return depth_; }
     int leafCount() const { return 1 << depth_; }
@@ -58,13 +68,14 @@ class PatchHierarchy {
     // triangle of leafTriangles(j). The ray kernels move each vertex to a vector of rays once,
     // not once per corner; made once per build, not at each of a leaf's many visits.
     const std::uint32_t* leafVertices(int leaf, std::size_t& count) const {
-        const std::uint32_t b = vertexBegin_[std::size_t(leaf)],
-                            e = vertexBegin_[std::size_t(leaf) + 1];
+        const LeafVertexTable& t = leafTable();
+        const std::uint32_t b = t.vertexBegin[std::size_t(leaf)],
+                            e = t.vertexBegin[std::size_t(leaf) + 1];
         count = e - b;
-        return vertices_.data() + b;
+        return t.vertices.data() + b;
     }
     const std::uint8_t* leafCorners(int leaf) const {
-        return corners_.data() + 3 * std::size_t(leafBegin_[std::size_t(leaf)]);
+        return leafTable().corners.data() + 3 * std::size_t(leafBegin_[std::size_t(leaf)]);
     }
     // Bytes the hierarchy would occupy on chip: node boxes plus leaf triangle lists. (The vertex
     // table above is how the simulator lays out a leaf for its SIMD kernels, not modelled
@@ -76,10 +87,16 @@ class PatchHierarchy {
     std::vector<LBBox> nodes_;
     std::vector<std::uint32_t> triangles_;
     std::vector<std::uint32_t> leafBegin_;
-    std::vector<std::uint32_t> vertices_, vertexBegin_;
-    std::vector<std::uint8_t> corners_;
-    void makeLeafVertices(const MovingMesh& mesh);
+    // A pattern's table is shared, not copied: at a million triangles a copy per hierarchy
+    // cost more than the leaf visits it saves (docs/PERFORMANCE.md).
+    const LeafVertexTable* sharedTable_ = nullptr;
+    LeafVertexTable ownTable_;
+    const LeafVertexTable& leafTable() const { return sharedTable_ ? *sharedTable_ : ownTable_; }
 };
+
+// The leaf vertex table of a group's triangles in build order (the hierarchy buildOrdered makes).
+LeafVertexTable leafVertexTable(const MovingMesh& mesh, const std::uint32_t* triangles,
+                                std::size_t count, int leafSize);
 
 // Orders all triangles of a mesh by the implicit-grid split and cuts them into groups of at most
 // `maxPerGroup` (a power-of-two number of groups). `groupBegin` gets groups+1 offsets into `order`.
@@ -90,8 +107,9 @@ void splitIntoGroups(const MovingMesh& mesh, int maxPerGroup, std::vector<std::u
 // is built from (PatchHierarchy::build). It depends only on the mesh's domain positions and index
 // triples, its tessellation pattern, so meshes of one pattern have one order.
 struct HierarchyOrder {
-    std::vector<std::uint32_t> triangles;   // group after group
-    std::vector<std::uint32_t> groupBegin;  // where each group starts, then the end
+    std::vector<std::uint32_t> triangles;     // group after group
+    std::vector<std::uint32_t> groupBegin;    // where each group starts, then the end
+    std::vector<LeafVertexTable> leafTables;  // per group
 };
 HierarchyOrder hierarchyOrder(const MovingMesh& mesh, int maxPerGroup, int leafSize);
 

@@ -21,8 +21,9 @@ PatchRasterizer::PatchRasterizer(const Camera& camera, const LensModel& lens,
 }
 
 void PatchRasterizer::prepareGroup(const MovingMesh& mesh, const std::uint32_t* triangles,
-                                   std::size_t count, Group& group, RasterWork& work) const {
-    group.hierarchy.buildOrdered(mesh, triangles, count, options_.leafSize);
+                                   std::size_t count, Group& group, RasterWork& work,
+                                   const LeafVertexTable* leafTable) const {
+    group.hierarchy.buildOrdered(mesh, triangles, count, options_.leafSize, leafTable);
     ++work.groups;
     work.nodesBuilt += group.hierarchy.nodeCount();
     const auto bytes = std::int64_t(group.hierarchy.bytes());

@@ -42,9 +42,12 @@ class PatchRasterizer {
         SpaceNodes nodes;  // the hierarchy's boxes in the tile tests' bounds space
         TileRange tiles;   // the tiles its screen bounds cover
     };
-    // `triangles`: one group of the mesh's hierarchyOrder, in that order.
+    // `triangles`: one group of the mesh's hierarchyOrder, in that order; `leafTable`, the
+    // group's leaf vertex table there, which the group shares and must not outlive (made for the
+    // group alone when null).
     void prepareGroup(const MovingMesh& mesh, const std::uint32_t* triangles, std::size_t count,
-                      Group& group, RasterWork& work) const;
+                      Group& group, RasterWork& work,
+                      const LeafVertexTable* leafTable = nullptr) const;
     // `rays` holds the tile's rays and nearest hits (TileRays::load); transparent hits go to
     // `targets.transparent` from pool `targets.pool`.
     void rasterizeTile(const MovingMesh& mesh, const Group& group, int tileX, int tileY,

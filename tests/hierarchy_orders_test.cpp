@@ -34,6 +34,13 @@ std::vector<const MovingMesh*> pointers(const std::vector<MovingMesh>& meshes) {
 void expectSameOrder(const HierarchyOrder& a, const HierarchyOrder& b, std::size_t unit) {
     EXPECT_EQ(a.triangles, b.triangles) << "unit " << unit;
     EXPECT_EQ(a.groupBegin, b.groupBegin) << "unit " << unit;
+    // The shared leaf vertex tables name the vertices this unit's own mesh would.
+    ASSERT_EQ(a.leafTables.size(), b.leafTables.size()) << "unit " << unit;
+    for (std::size_t g = 0; g < a.leafTables.size(); ++g) {
+        EXPECT_EQ(a.leafTables[g].vertices, b.leafTables[g].vertices) << "unit " << unit;
+        EXPECT_EQ(a.leafTables[g].vertexBegin, b.leafTables[g].vertexBegin) << "unit " << unit;
+        EXPECT_EQ(a.leafTables[g].corners, b.leafTables[g].corners) << "unit " << unit;
+    }
 }
 
 // At one fixed factor every quad patch of a cage has the same pattern: the frame orders a few
@@ -105,9 +112,10 @@ TEST(HierarchyOrders, BuildOrderedEqualsBuild) {
             const std::size_t count = order.groupBegin[g + 1] - order.groupBegin[g];
             std::vector<std::uint32_t> reversed(group, group + count);
             std::reverse(reversed.begin(), reversed.end());
-            PatchHierarchy built, ordered;
+            PatchHierarchy built, ordered, withTable;
             built.build(mesh, reversed.data(), count, 4);
             ordered.buildOrdered(mesh, group, count, 4);
+            withTable.buildOrdered(mesh, group, count, 4, &order.leafTables[g]);
             ASSERT_EQ(built.nodeCount(), ordered.nodeCount());
             for (int n = 0; n < built.nodeCount(); ++n)
                 EXPECT_EQ(std::memcmp(&built.node(n), &ordered.node(n), sizeof(LBBox)), 0)
@@ -121,6 +129,14 @@ TEST(HierarchyOrders, BuildOrderedEqualsBuild) {
                 std::sort(sa.begin(), sa.end());
                 std::sort(sb.begin(), sb.end());
                 EXPECT_EQ(sa, sb) << "unit " << u << " group " << g << " leaf " << leaf;
+                // The order's leaf vertex table is the one the hierarchy would make itself.
+                std::size_t va, vb;
+                const std::uint32_t* made = ordered.leafVertices(leaf, va);
+                const std::uint32_t* copied = withTable.leafVertices(leaf, vb);
+                ASSERT_EQ(va, vb);
+                EXPECT_TRUE(std::equal(made, made + va, copied));
+                EXPECT_TRUE(std::equal(ordered.leafCorners(leaf), ordered.leafCorners(leaf) + 3 * b,
+                                       withTable.leafCorners(leaf)));
             }
         }
     }
