@@ -66,7 +66,8 @@ class PatchHierarchy {
     // Leaf j's distinct vertices (mesh vertex indices, `count` of them; a tessellated grid's
     // triangles share most corners), and its triangles' corners as indices into them, three per
     // triangle of leafTriangles(j). The ray kernels move each vertex to a vector of rays once,
-    // not once per corner; made once per build, not at each of a leaf's many visits.
+    // not once per corner; the table is made once per tessellation pattern (or per build, without
+    // a shared one), not at each of a leaf's many visits.
     const std::uint32_t* leafVertices(int leaf, std::size_t& count) const {
         const LeafVertexTable& t = leafTable();
         const std::uint32_t b = t.vertexBegin[std::size_t(leaf)],
