@@ -134,20 +134,27 @@ struct RevealScene {
         PatchHierarchy hierarchy;
     };
     std::vector<Group> groups;
+    // The meshes' orders, kept because their hierarchies share the orders' leaf vertex tables
+    // (the tables live in each order's heap storage, which a move of the order keeps).
+    std::vector<HierarchyOrder> orders;
 
     explicit RevealScene(const std::vector<MovingMesh>& meshes) {
         for (std::size_t m = 0; m < meshes.size(); ++m) {
             if (!meshes[m].opaque || meshes[m].triangleCount() == 0) continue;
-            const HierarchyOrder order = hierarchyOrder(meshes[m], 256, 4);
+            orders.push_back(hierarchyOrder(meshes[m], 256, 4));
+            const HierarchyOrder& order = orders.back();
             const std::vector<std::uint32_t>& begin = order.groupBegin;
             for (std::size_t g = 0; g + 1 < begin.size(); ++g) {
                 if (begin[g] == begin[g + 1]) continue;
                 groups.push_back({m, {}});
                 groups.back().hierarchy.buildOrdered(meshes[m], order.triangles.data() + begin[g],
-                                                     begin[g + 1] - begin[g], 4);
+                                                     begin[g + 1] - begin[g], 4,
+                                                     &order.leafTables[g]);
             }
         }
     }
+    RevealScene(const RevealScene&) = delete;  // its hierarchies point into its own orders
+    RevealScene& operator=(const RevealScene&) = delete;
 
     // The nearest hit of `ray` on an object other than `skipObject`.
     VisibilityRecord trace(const std::vector<MovingMesh>& meshes, Ray& ray, int skipObject,

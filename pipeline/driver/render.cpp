@@ -13,6 +13,7 @@
 #include "rasterizer/bounding_rasterizer.h"
 #include "rasterizer/frame_rasterizer.h"
 #include "rasterizer/reference_rasterizer.h"
+#include "rasterizer/tile_grid.h"
 #include "rasterizer/tile_rays.h"
 #include "tessellator/front_end.h"
 
@@ -292,8 +293,7 @@ void checkFrameMemory(const SceneDesc& scene, const RenderOptions& options,
     const int workers = resolveThreadCount(options.threads);
     const FilmDesc& film = scene.film;
     const int tileSize = scene.rasterizer.tileSize;
-    const std::int64_t tiles = std::int64_t((film.width + tileSize - 1) / tileSize) *
-                               std::int64_t((film.height + tileSize - 1) / tileSize);
+    const auto tiles = std::int64_t(TileGrid{film.width, film.height, tileSize}.tileCount());
     const auto rasterWorkers = std::uint64_t(
         std::min({std::int64_t(workers), std::int64_t(TransparentLayers::kPools), tiles}));
     const std::uint64_t scratch =
