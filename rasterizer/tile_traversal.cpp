@@ -226,15 +226,21 @@ struct CameraSpaceLanes {
         alignas(32) float lowers[8], uppers[8];
         hn::Store(lower, d, lowers);
         hn::Store(upper, d, uppers);
-        const unsigned crossings = (m.open ^ m.close) & ((1u << planes) - 1);
+        // The sides narrow in turn and the scalar test stops at the first that leaves nothing.
+        // Once empty the running intersection stays empty, so the sides it tests follow from how
+        // many of the four running intersections are empty: no branch per side, whose outcome
+        // the predictor cannot learn.
         const int perSide = frustum.planesPerSide;
+        int emptyAfter = 0;  // sides after which the running intersection is empty
         for (int side = 0; side < 4; ++side) {
-            work.planeTests += 2 * perSide;
-            work.timeIntervals +=
-                std::popcount(crossings >> (side * perSide) & ((1u << perSide) - 1));
             times.intersect({lowers[side * perSide], uppers[side * perSide]});
-            if (times.isEmpty()) return false;
+            emptyAfter += times.isEmpty();
         }
+        const int sidesTested = emptyAfter == 0 ? 4 : 5 - emptyAfter;
+        const unsigned testedPlanes = (1u << (sidesTested * perSide)) - 1;
+        work.planeTests += 2 * perSide * sidesTested;
+        work.timeIntervals += std::popcount((m.open ^ m.close) & testedPlanes);
+        if (emptyAfter != 0) return false;
         return !frustum.testNearFar || narrowToNearFar(frustum, box, times, work);
     }
 #else
@@ -280,16 +286,18 @@ struct CameraSpaceLanes {
     }
 
     // Time refinement at every level: the interval test alone decides (a box outside a side at
-    // both ends has no interval there), and counts; whether the box was outside in space as well
-    // is read from the same measurement, uncounted, to tell why a tile was rejected.
+    // both ends has no interval there), and counts; whether a rejected box was outside in space
+    // as well is read from the same measurement, uncounted, to tell why a tile was rejected (the
+    // walk asks only of rejected nodes, so `spatial` is left false for a kept one).
     bool refine(int node, TimeRange& times, bool& spatial, RasterWork& work) const {
         const LBBox& box = h.node(node);
         spatial = false;
         if (box.empty()) return false;
         Measure m;
         measure(box, true, m);
+        if (timesAfter(box, m, times, work)) return true;
         spatial = !outsideInSpace(box, m);
-        return timesAfter(box, m, times, work);
+        return false;
     }
 
     // overlapsAfter's answer with motion, without its counts: outside every plane of a side at
@@ -367,39 +375,47 @@ TileTraversal walk(const PatchHierarchy& h, Test&& test, bool motion, TimeRefine
         onlyByTime = onlyByTime || (spatial && !in);
         return in;
     };
-    struct Entry {
-        int node;
-        TimeRange times;
-    };
     TimeRange rootTimes = TimeRange::shutter();
     if (visit(0, rootTimes)) {
         result.times = TimeRange::empty();
-        Entry stack[2 * kMaxLeavesPerHierarchy];
+        // Nodes and their times in separate arrays: a pop then loads what one push stored (a
+        // 12-byte entry's loads straddled its stores, which defeats store-to-load forwarding).
+        // A child is written above the top either way and kept by moving the top, no branch. The
+        // stack holds at most one waiting sibling per level, the two children and one spare.
+        int stackNodes[kMaxHierarchyDepth + 2];
+        TimeRange stackTimes[kMaxHierarchyDepth + 2];
         int top = 0;
-        stack[top++] = {0, rootTimes};
+        stackNodes[top] = 0;
+        stackTimes[top++] = rootTimes;
         while (top > 0) {
-            const Entry e = stack[--top];
-            if (h.isLeaf(e.node)) {
-                TimeRange leafTimes = e.times;
+            --top;
+            const int node = stackNodes[top];
+            const TimeRange times = stackTimes[top];
+            if (h.isLeaf(node)) {
+                TimeRange leafTimes = times;
                 if (atLeaves && !everyLevel) {
                     onlyByTime = true;  // the leaf overlaps in space
-                    if (!test.leafTimes(e.node, leafTimes, work)) continue;
+                    if (!test.leafTimes(node, leafTimes, work)) continue;
                 }
-                const int leaf = e.node - PatchHierarchy::firstLeaf(h.depth());
+                const int leaf = node - PatchHierarchy::firstLeaf(h.depth());
                 result.leafMask |= std::uint64_t(1) << leaf;
                 result.leafTimes[std::size_t(leaf)] = leafTimes;
                 result.times.extend(leafTimes);
-                if (result.firstSplitNode < 0) result.firstSplitNode = e.node;
+                if (result.firstSplitNode < 0) result.firstSplitNode = node;
                 continue;
             }
-            const int left = 2 * e.node + 1, right = 2 * e.node + 2;
+            const int left = 2 * node + 1, right = 2 * node + 2;
             work.frustumNodeVisits += 2;
-            TimeRange leftTimes = e.times, rightTimes = e.times;
+            TimeRange leftTimes = times, rightTimes = times;
             const bool inLeft = visit(left, leftTimes);
             const bool inRight = visit(right, rightTimes);
-            if (inLeft && inRight && result.firstSplitNode < 0) result.firstSplitNode = e.node;
-            if (inRight) stack[top++] = {right, rightTimes};
-            if (inLeft) stack[top++] = {left, leftTimes};
+            if (inLeft && inRight && result.firstSplitNode < 0) result.firstSplitNode = node;
+            stackNodes[top] = right;
+            stackTimes[top] = rightTimes;
+            top += inRight;
+            stackNodes[top] = left;
+            stackTimes[top] = leftTimes;
+            top += inLeft;
         }
     }
     if (result.leafMask == 0) {
