@@ -371,14 +371,15 @@ class Pass {
         }
         if (count == 0) return;
         const bool still = rays_.allAtShutterOpen(), atOrigin = rays_.allAtOrigin();
+        const bool toLeaves = h_.isLeaf(first);  // both children sit on one level
         if (still && atOrigin)
-            filterInto<true, true>(in, n, tests, count, h_.isLeaf(first));
+            filterInto<true, true>(in, n, tests, count, toLeaves);
         else if (still)
-            filterInto<true, false>(in, n, tests, count, h_.isLeaf(first));
+            filterInto<true, false>(in, n, tests, count, toLeaves);
         else if (atOrigin)
-            filterInto<false, true>(in, n, tests, count, h_.isLeaf(first));
+            filterInto<false, true>(in, n, tests, count, toLeaves);
         else
-            filterInto<false, false>(in, n, tests, count, h_.isLeaf(first));
+            filterInto<false, false>(in, n, tests, count, toLeaves);
         for (int c = 0; c < count; ++c)
             if (tests[c].count > 0) descend(nodes[c], tests[c].out, tests[c].count, level + 1);
     }

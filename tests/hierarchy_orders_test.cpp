@@ -132,9 +132,9 @@ TEST(HierarchyOrders, BuildOrderedEqualsBuild) {
                 // The order's leaf vertex table is the one the hierarchy would make itself.
                 std::size_t va, vb;
                 const std::uint32_t* made = ordered.leafVertices(leaf, va);
-                const std::uint32_t* copied = withTable.leafVertices(leaf, vb);
+                const std::uint32_t* shared = withTable.leafVertices(leaf, vb);
                 ASSERT_EQ(va, vb);
-                EXPECT_TRUE(std::equal(made, made + va, copied));
+                EXPECT_TRUE(std::equal(made, made + va, shared));
                 EXPECT_TRUE(std::equal(ordered.leafCorners(leaf), ordered.leafCorners(leaf) + 3 * b,
                                        withTable.leafCorners(leaf)));
             }
