@@ -7,14 +7,15 @@
 #include <string>
 #include <vector>
 
-#include "pipeline/core/default_init_allocator.h"
+#include "pipeline/core/frame_memory.h"
 #include "pipeline/core/math.h"
 
 namespace patchsim {
 
-// A frame-sized plane of floats: sized construction leaves it unwritten (see
-// default_init_allocator.h), for outputs whose every element the workers write.
-using FloatPlane = std::vector<float, DefaultInitAllocator<float>>;
+// A frame-sized plane of floats in frame memory (huge pages where advised): sized construction
+// leaves it unwritten (see default_init_allocator.h), for outputs whose every element the workers
+// write.
+using FloatPlane = std::vector<float, FrameAllocator<float>>;
 
 struct Image {
     int width = 0, height = 0;

@@ -1,7 +1,9 @@
 // The resolve's output planes start unwritten (default_init_allocator.h): the workers' writes are
 // their first touch. This test program replaces the global operator new so that every allocation
 // starts as NaNs, and checks that a frame's image and AOVs hold none: a pixel that a filter or an
-// AOV left unwritten would keep its NaN, where a fresh page of zeros would hide it.
+// AOV left unwritten would keep its NaN, where a fresh page of zeros would hide it. Each render
+// starts with the frame memory cache emptied (frame_memory.h), so that its planes are fresh
+// allocations and not the last render's planes, whose values would hide an unwritten pixel too.
 
 #include <gtest/gtest.h>
 
@@ -12,6 +14,7 @@
 #include <new>
 
 #include "backend/image.h"
+#include "pipeline/core/frame_memory.h"
 #include "pipeline/core/scene_reader.h"
 #include "pipeline/driver/render.h"
 #include "tests/test_paths.h"
@@ -100,6 +103,7 @@ TEST(PoisonedMemory, ResolveWritesEveryPixelOfTheImageAndAovs) {
                 options.threads = threads;
                 options.resolve.filter = filter;
                 options.resolve.shadingRate = rate;
+                releaseCachedFrameMemory();
                 const ResolvedFrame f = renderScene(scene, options).frame;
                 const std::size_t pixels = std::size_t(scene.film.width * scene.film.height);
                 ASSERT_EQ(f.color.rgb.size(), 3 * pixels);

@@ -1,9 +1,12 @@
 #include "pipeline/core/frame_memory.h"
 
+#include <array>
 #include <cstdlib>
 #include <fstream>
+#include <mutex>
 #include <new>
 #include <string>
+#include <utility>
 
 #if defined(__linux__)
 #include <sys/mman.h>
@@ -37,27 +40,106 @@ bool hugePagesWanted() {
 #endif
 }
 
+std::size_t frameAlignment(std::size_t bytes) {
+    return frameMemoryAdvisesHugePages(bytes) ? kHugePageBytes : kCacheLineBytes;
+}
+
 }  // namespace
 
-void FrameMemoryRelease::operator()(void* p) const {
-    std::free(p);
-}
-
 bool frameMemoryAdvisesHugePages(std::size_t bytes) {
-    return bytes >= kHugePageBytes && hugePagesWanted();
+    return bytes >= kSmallestHugePageBuffer && hugePagesWanted();
 }
 
-std::unique_ptr<void, FrameMemoryRelease> allocateFrameMemory(std::size_t bytes) {
-    const bool huge = frameMemoryAdvisesHugePages(bytes);
-    const std::size_t alignment = huge ? kHugePageBytes : kCacheLineBytes;
+namespace {
+
+// Frame-sized blocks given back since the last request the cache could not serve (see the header).
+// A fixed array, so that keeping a block (in a noexcept release) never allocates.
+class BlockCache {
+  public:
+    static BlockCache& instance() {
+        static BlockCache* const cache = new BlockCache;  // outlives static destruction
+        return *cache;
+    }
+
+    // A block of exactly `size` bytes; or, when there is none, nullptr after every cached block is
+    // given back.
+    void* take(std::size_t size) {
+        std::array<Block, kMaxCachedBlocks> unused;
+        std::size_t unusedCount = 0;
+        {
+            std::lock_guard lock(mutex_);
+            for (std::size_t i = 0; i < count_; ++i) {
+                if (blocks_[i].size != size) continue;
+                void* memory = blocks_[i].memory;
+                cachedBytes_ -= size;
+                blocks_[i] = blocks_[--count_];
+                return memory;
+            }
+            unused = blocks_;
+            unusedCount = std::exchange(count_, 0);
+            cachedBytes_ = 0;
+        }
+        for (std::size_t i = 0; i < unusedCount; ++i)
+            ::operator delete(unused[i].memory, std::align_val_t(unused[i].alignment));
+        return nullptr;
+    }
+
+    // Whether the cache kept the block.
+    bool keep(void* memory, std::size_t size, std::size_t alignment) noexcept {
+        std::lock_guard lock(mutex_);
+        if (count_ == kMaxCachedBlocks || cachedBytes_ + size > kMaxCachedBytes) return false;
+        blocks_[count_++] = {memory, size, alignment};
+        cachedBytes_ += size;
+        return true;
+    }
+
+    std::size_t bytes() {
+        std::lock_guard lock(mutex_);
+        return cachedBytes_;
+    }
+
+  private:
+    static constexpr std::size_t kMaxCachedBlocks = 16;
+    static constexpr std::size_t kMaxCachedBytes = std::size_t(1) << 30;
+
+    struct Block {
+        void* memory = nullptr;
+        std::size_t size = 0, alignment = 0;
+    };
+    std::mutex mutex_;
+    std::array<Block, kMaxCachedBlocks> blocks_;
+    std::size_t count_ = 0, cachedBytes_ = 0;
+};
+
+}  // namespace
+
+void* allocateFrameBytes(std::size_t bytes) {
+    const std::size_t alignment = frameAlignment(bytes);
     const std::size_t size = roundUp(bytes == 0 ? 1 : bytes, alignment);
-    std::unique_ptr<void, FrameMemoryRelease> memory(std::aligned_alloc(alignment, size));
-    if (!memory) throw std::bad_alloc();
+    if (bytes >= kSmallestHugePageBuffer)
+        if (void* reused = BlockCache::instance().take(size)) return reused;
+    void* memory = ::operator new(size, std::align_val_t(alignment));
 #if defined(__linux__) && defined(MADV_HUGEPAGE)
     // Advice only: if the kernel refuses it the memory is ordinary pages, which is still correct.
-    if (huge) static_cast<void>(madvise(memory.get(), size, MADV_HUGEPAGE));
+    if (alignment == kHugePageBytes) static_cast<void>(madvise(memory, size, MADV_HUGEPAGE));
 #endif
     return memory;
+}
+
+void releaseFrameBytes(void* p, std::size_t bytes) noexcept {
+    const std::size_t alignment = frameAlignment(bytes);
+    if (bytes >= kSmallestHugePageBuffer &&
+        BlockCache::instance().keep(p, roundUp(bytes, alignment), alignment))
+        return;
+    ::operator delete(p, std::align_val_t(alignment));
+}
+
+void releaseCachedFrameMemory() {
+    static_cast<void>(BlockCache::instance().take(0));
+}
+
+std::size_t cachedFrameMemoryBytes() {
+    return BlockCache::instance().bytes();
 }
 
 }  // namespace patchsim
