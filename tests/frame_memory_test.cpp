@@ -72,8 +72,8 @@ TEST(FrameMemory, FirstTouchOfALargeBufferFaultsOncePerHugePageNotPerSmallPage) 
     EXPECT_LT(faults, kSmallPages / 4) << faults << " faults for " << kSmallPages << " small pages";
 }
 
-// An output plane of the default film (320x240 floats, 300 KiB) is a quarter huge page or more:
-// its first touch faults once per huge page too, not 75 times.
+// An output plane of the default film (320x240 floats, 300 KiB) is an eighth of a huge page or
+// more: its first touch faults once per huge page too, not 75 times.
 TEST(FrameMemory, AnOutputPlaneOfTheDefaultFilmFaultsOncePerHugePage) {
     constexpr std::size_t kPixels = 320 * 240;
     if (!frameMemoryAdvisesHugePages(kPixels * sizeof(float)))
