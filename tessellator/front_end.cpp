@@ -51,8 +51,9 @@ Vec3 safeNormal(const Vec3& du, const Vec3& dv) {
 
 namespace {
 
-// Object i of the scene: its cage (and shutter-close cage), limit surface and vertex stage.
-SceneObject makeObject(const SceneDesc& scene, std::size_t i) {
+// Object i of the scene without its limit surface: its cage (and shutter-close cage) and vertex
+// stage.
+SceneObject readObject(const SceneDesc& scene, std::size_t i) {
     const ObjectDesc& desc = scene.objects[i];
     const std::string field = "objects[" + std::to_string(i) + "]";
     SceneObject object;
@@ -68,7 +69,6 @@ SceneObject makeObject(const SceneDesc& scene, std::size_t i) {
                              "'" + desc.cageClosePath + "' does not have the topology of '" +
                                  desc.cagePath + "'");
     }
-    object.mesh = std::make_unique<SubdivisionMesh>(object.cage, desc.scheme, desc.cagePath);
     object.points = runVertexStage(desc, object.cage, closeCage.get(), scene.shutter);
     return object;
 }
@@ -79,21 +79,28 @@ FrontEnd::FrontEnd(const SceneDesc& scene, int threads)
     : scene_(scene), camera_(scene.camera, scene.shutter, scene.film.width, scene.film.height) {
     hull_.partitioning = scene.tessellation.partitioning;
     hull_.insideReduction = scene.tessellation.insideReduction;
-    // The objects are independent (OpenSubdiv's refiner factory is thread-safe; its error
-    // callback is guarded in subdivision_mesh.cpp): built on `threads`, each into its slot, and
-    // the first object in scene order that fails is the one reported, as one thread would.
+    // The objects' cages are read on `threads`, each into its slot. Their limit surfaces are then
+    // built one object after another, each object's faces on `threads` (OpenSubdiv's refiner
+    // factory is thread-safe; its error callback is guarded in subdivision_mesh.cpp): a scene's
+    // surfaces are mostly one object's. The first object in scene order that fails is the one
+    // reported, as one thread would.
     const std::size_t count = scene.objects.size();
     objects_.resize(count);
     std::vector<std::exception_ptr> failures(count);
     parallelFor(count, threads, [&](int, std::size_t i) {
         try {
-            objects_[i] = makeObject(scene, i);
+            objects_[i] = readObject(scene, i);
         } catch (...) {
             failures[i] = std::current_exception();
         }
     });
-    for (const std::exception_ptr& failure : failures)
-        if (failure) std::rethrow_exception(failure);
+    for (std::size_t i = 0; i < count; ++i) {
+        if (failures[i]) std::rethrow_exception(failures[i]);
+        SceneObject& object = objects_[i];
+        object.mesh =
+            std::make_unique<SubdivisionMesh>(object.cage, object.desc.scheme, object.desc.cagePath,
+                                              SubdivisionMesh::FarFaces::OnlyUnsafeForBfr, threads);
+    }
     patchOffsets_.push_back(0);
     for (const SceneObject& object : objects_)
         patchOffsets_.push_back(patchOffsets_.back() + object.mesh->patches().size());

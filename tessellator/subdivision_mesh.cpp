@@ -2,16 +2,19 @@
 
 #include <opensubdiv/bfr/refinerSurfaceFactory.h>
 #include <opensubdiv/bfr/surface.h>
+#include <opensubdiv/bfr/surfaceFactoryCache.h>
 #include <opensubdiv/far/error.h>
 #include <opensubdiv/far/topologyDescriptor.h>
 
 #include <algorithm>
 #include <cstdio>
 #include <mutex>
+#include <shared_mutex>
 #include <stdexcept>
 
 #include "pipeline/core/counters.h"
 #include "pipeline/core/error.h"
+#include "pipeline/core/parallel.h"
 #include "tessellator/far_limit_evaluator.h"
 
 namespace patchsim {
@@ -71,9 +74,15 @@ osd::Sdc::Options sdcOptions(const Cage& cage) {
 
 }  // namespace
 
+// A factory whose cache of patch trees (shared by faces of the same neighbourhood) takes a lock,
+// so that the faces' surfaces can be built on several threads.
+using ThreadSafeSurfaceFactory = osd::Bfr::RefinerSurfaceFactory<
+    osd::Bfr::SurfaceFactoryCacheThreaded<std::shared_mutex, std::shared_lock<std::shared_mutex>,
+                                          std::unique_lock<std::shared_mutex>>>;
+
 struct SubdivisionMesh::Impl {
     std::unique_ptr<osd::Far::TopologyRefiner> refiner;
-    std::unique_ptr<osd::Bfr::RefinerSurfaceFactory<>> factory;
+    std::unique_ptr<ThreadSafeSurfaceFactory> factory;
     std::vector<osd::Bfr::Surface<float>>
         surfaces;             // one per face; invalid for holes and Far faces
     std::vector<char> onFar;  // per face: evaluated by `far`
@@ -90,7 +99,7 @@ struct SubdivisionMesh::Impl {
 };
 
 SubdivisionMesh::SubdivisionMesh(const Cage& cage, SubdivisionScheme scheme,
-                                 const std::string& path, FarFaces farChoice)
+                                 const std::string& path, FarFaces farChoice, int threads)
     : scheme_(scheme), impl_(std::make_unique<Impl>()) {
     const int regular = scheme == SubdivisionScheme::Loop ? 3 : 4;
     if (scheme == SubdivisionScheme::Loop) {
@@ -170,11 +179,12 @@ SubdivisionMesh::SubdivisionMesh(const Cage& cage, SubdivisionScheme scheme,
             for (int e : fe) edgeNextToSubpatches_[std::size_t(e)] = true;
     }
 
-    impl_->factory = std::make_unique<osd::Bfr::RefinerSurfaceFactory<>>(*impl_->refiner);
+    impl_->factory = std::make_unique<ThreadSafeSurfaceFactory>(*impl_->refiner);
     impl_->surfaces.resize(std::size_t(level.GetNumFaces()));
-    for (int f = 0; f < level.GetNumFaces(); ++f)
-        if (!impl_->onFar[std::size_t(f)])
-            impl_->factory->InitVertexSurface(f, &impl_->surfaces[std::size_t(f)]);
+    // Each face's surface into its slot: the same surfaces on any thread count.
+    parallelFor(impl_->surfaces.size(), threads, [&](int, std::size_t f) {
+        if (!impl_->onFar[f]) impl_->factory->InitVertexSurface(int(f), &impl_->surfaces[f]);
+    });
     iaFarFaces += std::int64_t(farFaces.size());
     iaCageFaces += level.GetNumFaces();
     buildPatches();

@@ -6,9 +6,10 @@
 // --------------
 // Topology is a Far::TopologyRefiner built from the cage (Far::TopologyDescriptor), with creases,
 // corners, holes and boundary interpolation from the OBJ tags. One Bfr::Surface<float> per base
-// face (made with Bfr::RefinerSurfaceFactory when the mesh is built, so evaluation afterwards is
-// const and thread-safe) gives the limit stencils; the few faces that OpenSubdiv 3.5.0's Bfr
-// cannot build safely are evaluated on Far's patch table instead (tessellator/far_limit_evaluator).
+// face (made with Bfr::RefinerSurfaceFactory when the mesh is built, on several threads through a
+// locked cache, so evaluation afterwards is const and thread-safe) gives the limit stencils; the
+// few faces that OpenSubdiv 3.5.0's Bfr cannot build safely are evaluated on Far's patch table
+// instead (tessellator/far_limit_evaluator).
 //
 // A patch is one tessellation domain. A face of the scheme's regular size (4 for Catmull-Clark and
 // bilinear, 3 for Loop) is one patch. Any other Catmull-Clark face of N sides is N quad
@@ -78,9 +79,11 @@ class SubdivisionMesh {
     // does not fit the faces (Loop needs triangles).
     // Which faces Far's patch table evaluates: only those Bfr 3.5.0 cannot build (the default), or
     // every face (an independent evaluation of the same surface, for tests).
+    // The faces' Bfr surfaces are built on `threads` (the most costly part: a creased cage's
+    // irregular faces take a fraction of a millisecond each).
     enum class FarFaces : std::uint8_t { OnlyUnsafeForBfr, All };
     SubdivisionMesh(const Cage& cage, SubdivisionScheme scheme, const std::string& path,
-                    FarFaces farFaces = FarFaces::OnlyUnsafeForBfr);
+                    FarFaces farFaces = FarFaces::OnlyUnsafeForBfr, int threads = 1);
     ~SubdivisionMesh();
     SubdivisionMesh(const SubdivisionMesh&) = delete;
     SubdivisionMesh& operator=(const SubdivisionMesh&) = delete;

@@ -101,6 +101,42 @@ TEST(SubdivisionMesh, BfrStencilsAgreeWithFarPatchTableOnARegularSurface) {
     EXPECT_LT(worst, 1e-5);
 }
 
+// The faces' surfaces are built on several threads through one locked cache: every face's
+// stencils are the same, bit for bit, on any thread count. Creased and N-gon cages, where Bfr
+// builds irregular surfaces and faces share cached patch trees.
+TEST(SubdivisionMesh, SurfacesBuiltOnSeveralThreadsGiveOneThreadsStencils) {
+    std::vector<std::pair<std::string, SubdivisionScheme>> cages = {
+        {test::sourcePath("scenes/cages/catmark_cube_creases1.obj"), SubdivisionScheme::Catmark},
+        {test::sourcePath("scenes/cages/catmark_nonquads.obj"), SubdivisionScheme::Catmark},
+        {test::sourcePath("scenes/cages/loop_icosahedron.obj"), SubdivisionScheme::Loop}};
+    if (!test::sharedModelFiles().empty())
+        cages.push_back(
+            {test::sharedModelsDir() + "/catmark_rook.obj", SubdivisionScheme::Catmark});
+    for (const auto& [path, scheme] : cages) {
+        const Cage cage = readObjCage(path);
+        const SubdivisionMesh one(cage, scheme, path, SubdivisionMesh::FarFaces::OnlyUnsafeForBfr,
+                                  1);
+        for (int threads : {2, 3}) {
+            const SubdivisionMesh many(cage, scheme, path,
+                                       SubdivisionMesh::FarFaces::OnlyUnsafeForBfr, threads);
+            ASSERT_EQ(many.patches().size(), one.patches().size()) << path;
+            for (int face = 0; face < cage.faceCount(); ++face) {
+                ASSERT_EQ(many.controlPointCount(face), one.controlPointCount(face)) << path;
+                for (const float uv : {0.0f, 0.37f, 1.0f}) {
+                    const float faceUV[2] = {uv, 0.61f};
+                    SubdivisionMesh::Stencil a, b;
+                    one.evaluateStencil(face, faceUV, a);
+                    many.evaluateStencil(face, faceUV, b);
+                    ASSERT_EQ(a.controlPoints, b.controlPoints) << path << " face " << face;
+                    ASSERT_EQ(a.position, b.position) << path << " face " << face;
+                    ASSERT_EQ(a.du, b.du) << path << " face " << face;
+                    ASSERT_EQ(a.dv, b.dv) << path << " face " << face;
+                }
+            }
+        }
+    }
+}
+
 TEST(SubdivisionMesh, BilinearSchemeIsBilinearInterpolation) {
     const auto files = test::sharedModelFiles();
     const std::string path = test::sharedModelsDir() + "/bilinear_cube.obj";
