@@ -1,4 +1,5 @@
-// Front-end throughput: the D3D11 tessellator alone, and HS + TS + DS per patch on a scene.
+// Front-end throughput: the D3D11 tessellator alone, HS + TS + DS per patch on a scene, and the
+// set-up of a scene's objects (cages read, vertex stage, OpenSubdiv topology and Bfr surfaces).
 
 #include <benchmark/benchmark.h>
 
@@ -74,5 +75,34 @@ void frontEndScene(benchmark::State& state, const char* scene) {
 BENCHMARK_CAPTURE(frontEndScene, static, "scenes/static.json")->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(frontEndScene, motion_defocus, "scenes/motion_defocus.json")
     ->Unit(benchmark::kMillisecond);
+
+// Building a scene's FrontEnd on 1 and 2 threads: the default scene (its creased cube's six
+// irregular faces cost most) and the rook, a creased cage of 777 faces whose Bfr surfaces are
+// nearly all of its front end.
+void frontEndSetUp(benchmark::State& state, const char* path, bool cage) {
+    const std::string file = std::string(PATCHSIM_SOURCE_DIR) + "/" + path;
+    const SceneDesc scene = cage ? sceneForCage(file) : readSceneFile(file);
+    const int threads = int(state.range(0));
+    std::int64_t patches = 0;
+    for (auto _ : state) {
+        const FrontEnd fe(scene, threads);
+        patches += std::int64_t(fe.patchCount());
+        benchmark::DoNotOptimize(&fe);
+    }
+    state.counters["patches/s"] = benchmark::Counter(double(patches), benchmark::Counter::kIsRate);
+}
+
+BENCHMARK_CAPTURE(frontEndSetUp, default, "scenes/default.json", false)
+    ->ArgName("threads")
+    ->Arg(1)
+    ->Arg(2)
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
+BENCHMARK_CAPTURE(frontEndSetUp, rook, "scenes/cages/catmark_rook.obj", true)
+    ->ArgName("threads")
+    ->Arg(1)
+    ->Arg(2)
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
 
 }  // namespace
