@@ -79,11 +79,11 @@ FrontEnd::FrontEnd(const SceneDesc& scene, int threads)
     : scene_(scene), camera_(scene.camera, scene.shutter, scene.film.width, scene.film.height) {
     hull_.partitioning = scene.tessellation.partitioning;
     hull_.insideReduction = scene.tessellation.insideReduction;
-    // The objects' cages are read on `threads`, each into its slot. Their limit surfaces are then
-    // built one object after another, each object's faces on `threads` (OpenSubdiv's refiner
-    // factory is thread-safe; its error callback is guarded in subdivision_mesh.cpp): a scene's
-    // surfaces are mostly one object's. The first object in scene order that fails is the one
-    // reported, as one thread would.
+    // The objects' cages are read and their vertex stages run on `threads`, each into its slot.
+    // Their meshes are then built one object after another, each object's Bfr surfaces on
+    // `threads` (subdivision_mesh.cpp): a scene's surfaces are mostly one object's (the creased
+    // cube of the default scene; a cage rendered on its own). The first object in scene order
+    // that fails is the one reported, as one thread would.
     const std::size_t count = scene.objects.size();
     objects_.resize(count);
     std::vector<std::exception_ptr> failures(count);
