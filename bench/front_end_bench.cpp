@@ -92,17 +92,12 @@ void frontEndSetUp(benchmark::State& state, const char* path, bool cage) {
     state.counters["patches/s"] = benchmark::Counter(double(patches), benchmark::Counter::kIsRate);
 }
 
-BENCHMARK_CAPTURE(frontEndSetUp, default, "scenes/default.json", false)
-    ->ArgName("threads")
-    ->Arg(1)
-    ->Arg(2)
-    ->Unit(benchmark::kMillisecond)
-    ->UseRealTime();
+void onOneAndTwoThreads(benchmark::internal::Benchmark* b) {
+    b->ArgName("threads")->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
+}
+
+BENCHMARK_CAPTURE(frontEndSetUp, default, "scenes/default.json", false)->Apply(onOneAndTwoThreads);
 BENCHMARK_CAPTURE(frontEndSetUp, rook, "scenes/cages/catmark_rook.obj", true)
-    ->ArgName("threads")
-    ->Arg(1)
-    ->Arg(2)
-    ->Unit(benchmark::kMillisecond)
-    ->UseRealTime();
+    ->Apply(onOneAndTwoThreads);
 
 }  // namespace
