@@ -98,8 +98,8 @@ class Pass {
 
     void run() {
         const TileTraversal& traversal = *pass_.traversal;
-        nodeTimes(traversal.leafMask);
         const int start = pass_.branchNode;
+        nodeTimes(traversal.leafMask, start);
         work_.branchDepthSum += h_.levelOf(start);
         int first, last;
         rays_.indexRange(times_[start], first, last);
@@ -119,17 +119,24 @@ class Pass {
     }
 
   private:
-    // Each node's time range: the union (hull) of the intervals of its leaves in `leaves`; empty
-    // when it has none.
-    void nodeTimes(std::uint64_t leaves) {
+    // The time range of each node below `start` (the descent reads no other): the union (hull)
+    // of the intervals of its leaves in `leaves`; empty when it has none. The subtree's nodes at
+    // each level are a run of consecutive indices.
+    void nodeTimes(std::uint64_t leaves, int start) {
         const TileTraversal& t = *pass_.traversal;
-        const int first = PatchHierarchy::firstLeaf(h_.depth());
-        for (int j = 0; j < h_.leafCount(); ++j)
-            times_[first + j] =
-                (leaves >> j & 1u) ? t.leafTimes[std::size_t(j)] : TimeRange::empty();
-        for (int i = first - 1; i >= 0; --i) {
-            times_[i] = times_[2 * i + 1];
-            times_[i].extend(times_[2 * i + 2]);
+        const int below = h_.depth() - h_.levelOf(start);  // levels from start down to the leaves
+        const int firstLeaf = PatchHierarchy::firstLeaf(h_.depth());
+        const int leavesFrom = ((start + 1) << below) - 1;
+        for (int node = leavesFrom; node < leavesFrom + (1 << below); ++node) {
+            const int j = node - firstLeaf;
+            times_[node] = (leaves >> j & 1u) ? t.leafTimes[std::size_t(j)] : TimeRange::empty();
+        }
+        for (int level = below - 1; level >= 0; --level) {
+            const int from = ((start + 1) << level) - 1;
+            for (int node = from; node < from + (1 << level); ++node) {
+                times_[node] = times_[2 * node + 1];
+                times_[node].extend(times_[2 * node + 2]);
+            }
         }
     }
 

@@ -174,6 +174,7 @@ void TileRays::orderByBucket(const TileRect& rect) {
             for (int j = 0; j < spp; ++j) place(k * spp + j, k, j);
         return;
     }
+    if (placeOnePerBucket(pixels)) return;
     std::fill(bucketBegin_.begin(), bucketBegin_.end(), 0);
     for (int k = 0; k < pixels; ++k) {
         const Sample* samples = pixelSamples_[std::size_t(k)].samples;
@@ -190,6 +191,29 @@ void TileRays::orderByBucket(const TileRect& rect) {
         for (int j = 0; j < spp; ++j) place(next[bucket_[std::size_t(k * spp + j)]]++, k, j);
     for (int b = buckets_; b > 0; --b) next[std::size_t(b)] = next[std::size_t(b) - 1];
     next[0] = 0;
+}
+
+// With as many buckets as samples per pixel, stratified times put one sample of every pixel in
+// each bucket. The stable sort's order is then known without counting: bucket b holds one sample
+// of each pixel, in Morton order, so pixel k's sample in bucket b goes to b * pixels + k. Returns
+// false, after placing some samples that orderByBucket's counting sort then overwrites, when a
+// pixel has two samples in one bucket (jitter that rounds up to the next stratum's edge).
+bool TileRays::placeOnePerBucket(int pixels) {
+    const int spp = frame_.samplesPerPixel;
+    if (buckets_ != spp || spp > 64) return false;
+    const std::uint64_t everyBucket = spp == 64 ? ~std::uint64_t(0) : (std::uint64_t(1) << spp) - 1;
+    for (int k = 0; k < pixels; ++k) {
+        const Sample* samples = pixelSamples_[std::size_t(k)].samples;
+        std::uint64_t seen = 0;
+        for (int j = 0; j < spp; ++j) {
+            const int b = bucketOf(samples[j].time);
+            seen |= std::uint64_t(1) << b;
+            place(b * pixels + k, k, j);
+        }
+        if (seen != everyBucket) return false;
+    }
+    for (int b = 0; b <= buckets_; ++b) bucketBegin_[std::size_t(b)] = b * pixels;
+    return true;
 }
 
 void TileRays::startHits(const VisibilityBuffer& buffer) {

@@ -197,6 +197,7 @@ class TileRays {
     int pixelCount(const TileRect& rect);
     void pixelSamples(int k, const Sample*& samples, const Vec2*& disk);
     void orderByBucket(const TileRect& rect);
+    bool placeOnePerBucket(int pixels);
     void place(int i, int k, int j);
     void startHits(const VisibilityBuffer& buffer);
     void summarize();

@@ -94,7 +94,11 @@ TEST(FrameMemory, AnOutputPlaneOfTheDefaultFilmFaultsOncePerHugePage) {
 // The point of the cache: a frame after the first reuses the first one's buffers, so it finds
 // them faulted and zeroed already. Its page faults are counted over a whole render of the default
 // scene: before the cache and the planes' huge pages, the output planes alone took about 530 a
-// frame, and without huge pages the visibility buffer 9,600.
+// frame, and without huge pages the visibility buffer 9,600 (a fault per small page). With the
+// cache the second frame takes about 40 (huge pages) or 120 (small pages) on a quiet machine, and
+// up to about 250 when another process keeps the second core busy: the rest of the frame's memory
+// comes from malloc's per-thread arenas, and which thread allocates what follows the schedule.
+// So the bound is a tenth of the visibility buffer's small pages, which fails without the cache.
 TEST(FrameMemory, AFrameAfterTheFirstReusesItsBuffersAndTakesFewPageFaults) {
     const SceneDesc scene = readSceneFile(test::sourcePath("scenes/default.json"));
     RenderOptions options;
@@ -110,7 +114,8 @@ TEST(FrameMemory, AFrameAfterTheFirstReusesItsBuffersAndTakesFewPageFaults) {
 #if defined(__SANITIZE_ADDRESS__)
     GTEST_SKIP() << "AddressSanitizer's shadow memory takes page faults of its own";
 #endif
-    EXPECT_LT(faults, 200) << faults << " faults in the second frame";
+    const long bound = long(bufferBytes / 4096 / 10);
+    EXPECT_LT(faults, bound) << faults << " faults in the second frame";
 }
 #endif
 

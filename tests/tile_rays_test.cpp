@@ -51,6 +51,39 @@ std::uint32_t mortonOf(int x, int y) {
     return code;
 }
 
+// The tile `r` just loaded into `rays` holds each of its samples once (marked in `seen`, by
+// record), with `expected`'s time and lens point, ordered by time bucket, then Morton pixel, then
+// sample index; each bucket's samples lie in its index range; the samples past the live ones are
+// dead.
+template <class ExpectedSample>
+void expectOrderedByBucketThenMortonPixel(const TileRays& rays, const TileRect& r, int spp,
+                                          const ExpectedSample& expected, std::vector<int>& seen) {
+    ASSERT_EQ(rays.count(), (r.x1 - r.x0) * (r.y1 - r.y0) * spp);
+    ASSERT_EQ(rays.padded() % kMaxLanes, 0);
+    std::uint64_t previousKey = 0;
+    for (int i = 0; i < rays.count(); ++i) {
+        const int pixel = int(rays.record[i]) / spp, s = int(rays.record[i]) % spp;
+        const int x = pixel % kGrid.width, y = pixel / kGrid.width;
+        ASSERT_TRUE(x >= r.x0 && x < r.x1 && y >= r.y0 && y < r.y1);
+        ++seen[rays.record[i]];
+        const Sample e = expected(x, y, s);
+        EXPECT_EQ(rays.time[i], e.time);
+        EXPECT_EQ(rays.lensU[i], e.lens.x);
+        EXPECT_EQ(rays.lensV[i], e.lens.y);
+        const int bucket = rays.bucketOf(rays.time[i]);
+        EXPECT_TRUE(i >= rays.bucketBegin(bucket) && i < rays.bucketBegin(bucket + 1))
+            << "sample " << i << " outside bucket " << bucket << "'s range";
+        // Bucket, then Morton pixel within the tile, then sample index.
+        const std::uint64_t key = std::uint64_t(bucket) << 40 |
+                                  std::uint64_t(mortonOf(x - r.x0, y - r.y0)) << 8 |
+                                  std::uint64_t(s);
+        EXPECT_GT(key + 1, previousKey) << "sample " << i;
+        previousKey = key + 1;
+    }
+    for (int i = rays.count(); i < rays.padded(); ++i)
+        EXPECT_TRUE(std::isnan(rays.time[i])) << "a dead sample has no time";
+}
+
 TEST(TileRays, EverySampleOnceInItsTileByTimeBucketThenMortonPixel) {
     for (SamplePattern pattern : {SamplePattern::Stratified, SamplePattern::Grid})
         for (bool motion : {true, false}) {
@@ -59,34 +92,42 @@ TEST(TileRays, EverySampleOnceInItsTileByTimeBucketThenMortonPixel) {
             TileRays rays(f.tiles);
             EXPECT_EQ(rays.buckets(), motion ? 9 : 1);
             std::vector<int> seen(buffer.records().size(), 0);
+            const auto expected = [&](int x, int y, int s) { return f.generator.sample(x, y, s); };
             for (int ty = 0; ty < kGrid.tilesY(); ++ty)
                 for (int tx = 0; tx < kGrid.tilesX(); ++tx) {
                     const TileRect r = kGrid.rect(tx, ty);
                     rays.load(r, buffer);
-                    ASSERT_EQ(rays.count(), (r.x1 - r.x0) * (r.y1 - r.y0) * 9);
-                    ASSERT_EQ(rays.padded() % kMaxLanes, 0);
-                    std::uint64_t previousKey = 0;
-                    for (int i = 0; i < rays.count(); ++i) {
-                        const int pixel = int(rays.record[i] / 9), s = int(rays.record[i] % 9);
-                        const int x = pixel % kGrid.width, y = pixel / kGrid.width;
-                        ASSERT_TRUE(x >= r.x0 && x < r.x1 && y >= r.y0 && y < r.y1);
-                        ++seen[rays.record[i]];
-                        const Sample expected = f.generator.sample(x, y, s);
-                        EXPECT_EQ(rays.time[i], expected.time);
-                        EXPECT_EQ(rays.lensU[i], expected.lens.x);
-                        EXPECT_EQ(rays.lensV[i], expected.lens.y);
-                        // Bucket, then Morton pixel within the tile, then sample index.
-                        const std::uint64_t key = std::uint64_t(rays.bucketOf(rays.time[i])) << 40 |
-                                                  std::uint64_t(mortonOf(x - r.x0, y - r.y0)) << 8 |
-                                                  std::uint64_t(s);
-                        EXPECT_GT(key + 1, previousKey) << "sample " << i;
-                        previousKey = key + 1;
-                    }
-                    for (int i = rays.count(); i < rays.padded(); ++i)
-                        EXPECT_TRUE(std::isnan(rays.time[i])) << "a dead sample has no time";
+                    expectOrderedByBucketThenMortonPixel(rays, r, 9, expected, seen);
                 }
             for (int n : seen) ASSERT_EQ(n, 1);
         }
+}
+
+// Stratified times put one sample of each pixel in each bucket, and the tile's order is then
+// placed without counting; a pixel with two samples in one bucket (and none in another) takes
+// the counting sort, whichever of the tile's pixels it is.
+TEST(TileRays, APixelWithTwoSamplesInOneBucketKeepsTheOrder) {
+    Frame f(SamplePattern::Stratified, true, 0.2f);
+    const SampleTable table(f.generator, kGrid.width, kGrid.height, 1);
+    TileRayFrame tiles = f.tiles;
+    tiles.samples.table = &table;
+    const VisibilityBuffer buffer(kGrid.width, kGrid.height, 9, f.camera.farPlane());
+    TileRays rays(tiles);
+    const auto expected = [&](int x, int y, int s) { return table.pixel(x, y)[s]; };
+    // The first, a middle and the last pixel of tile (1, 1) in Morton order; one pixel at a time.
+    for (const auto& [x, y] : {std::pair{8, 8}, std::pair{10, 9}, std::pair{15, 15}}) {
+        // The table's own storage, edited for the test: sample 0 moves into sample 1's bucket.
+        auto* samples = const_cast<Sample*>(table.pixel(x, y));
+        const float before = samples[0].time;
+        samples[0].time = samples[1].time;
+        ASSERT_EQ(rays.bucketOf(samples[0].time), rays.bucketOf(samples[1].time));
+        std::vector<int> seen(buffer.records().size(), 0);
+        const TileRect r = kGrid.rect(1, 1);
+        rays.load(r, buffer);
+        expectOrderedByBucketThenMortonPixel(rays, r, 9, expected, seen);
+        EXPECT_EQ(std::count(seen.begin(), seen.end(), 1), rays.count());
+        samples[0].time = before;
+    }
 }
 
 // The vector setup makes exactly the rays, slab constants and shears the scalar functions make

@@ -64,8 +64,6 @@ class BlockCache {
     // A block of exactly `size` bytes; or, when there is none, nullptr after every cached block is
     // given back.
     void* take(std::size_t size) {
-        std::array<Block, kMaxCachedBlocks> unused;
-        std::size_t unusedCount = 0;
         {
             std::lock_guard lock(mutex_);
             for (std::size_t i = 0; i < count_; ++i) {
@@ -75,13 +73,23 @@ class BlockCache {
                 blocks_[i] = blocks_[--count_];
                 return memory;
             }
+        }
+        clear();
+        return nullptr;
+    }
+
+    // Gives every cached block back (outside the lock: freeing may take a while).
+    void clear() {
+        std::array<Block, kMaxCachedBlocks> unused;
+        std::size_t unusedCount = 0;
+        {
+            std::lock_guard lock(mutex_);
             unused = blocks_;
             unusedCount = std::exchange(count_, 0);
             cachedBytes_ = 0;
         }
         for (std::size_t i = 0; i < unusedCount; ++i)
             ::operator delete(unused[i].memory, std::align_val_t(unused[i].alignment));
-        return nullptr;
     }
 
     // Whether the cache kept the block.
@@ -135,7 +143,7 @@ void releaseFrameBytes(void* p, std::size_t bytes) noexcept {
 }
 
 void releaseCachedFrameMemory() {
-    static_cast<void>(BlockCache::instance().take(0));
+    BlockCache::instance().clear();
 }
 
 std::size_t cachedFrameMemoryBytes() {
