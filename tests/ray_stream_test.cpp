@@ -4,12 +4,16 @@
 #include <hwy/targets.h>
 
 #include <cstring>
+#include <limits>
+#include <vector>
 
 #include "pipeline/core/counters.h"
 #include "pipeline/core/scene_reader.h"
 #include "pipeline/driver/render.h"
 #include "rasterizer/branch_node.h"
+#include "rasterizer/moving_box_ray.h"
 #include "rasterizer/tile_traversal.h"
+#include "rasterizer/watertight_triangle.h"
 #include "rasterizer/z_culling.h"
 #include "tests/patch_setup.h"
 #include "tests/render_compare.h"
@@ -94,6 +98,24 @@ struct GroupedFrame {
         return desc;
     }
 
+    // Group g's walk over tile (tx, ty), as rasterizeTile makes it (with z culling, out to the
+    // tile's farthest depth bound), and the pass that follows it.
+    TileTraversal walk(TileRays& rays, int tx, int ty, std::size_t g) {
+        const PatchRasterizer& r = setup.rasterizer;
+        const Camera& camera = setup.fe.camera();
+        const float farDepth = r.options().zCulling ? rays.farthestDepthBound() : camera.farPlane();
+        RasterWork walkWork;
+        return traverseTile(groups[g].hierarchy, groups[g].nodes,
+                            {&camera, setup.lens, r.tileGrid().rect(tx, ty), farDepth},
+                            setup.effects.motion, timeRefinementOf(r.options()), walkWork);
+    }
+    StreamPass passAfter(const TileTraversal& traversal, std::size_t g) const {
+        const RasterizerOptions& options = setup.rasterizer.options();
+        const PatchHierarchy& h = groups[g].hierarchy;
+        return {&meshes[g], &h, &traversal, branchNode(options.branchMethod, traversal, h.depth()),
+                options.zCulling};
+    }
+
     // `visit(tx, ty, g)` for every group g whose bounds cover tile (tx, ty), the tile's rays
     // loaded into `rays` from the buffer, and written back after the tile's last group.
     template <class Visit>
@@ -152,19 +174,11 @@ TEST(RayStream, WithZCullingEveryRayEndsAtItsDepthBoundAfterEachPass) {
 TEST(RayStream, APassTestsTheSamplesInItsLeavesTimesAndCastsARayForEach) {
     for (const char* path : {"scenes/motion_defocus.json", "scenes/static.json"}) {
         GroupedFrame f(path, {64, 48, 4, 1});
-        const PatchRasterizer& rasterizer = f.setup.rasterizer;
-        const Camera& camera = f.setup.fe.camera();
         TileRays rays(f.frame);
         std::size_t passes = 0, narrowed = 0;
         f.forEachCoveredTile(rays, [&](int tx, int ty, std::size_t g) {
             const PatchHierarchy& h = f.groups[g].hierarchy;
-            const float farDepth =
-                rasterizer.options().zCulling ? rays.farthestDepthBound() : camera.farPlane();
-            RasterWork walkWork;
-            const TileTraversal traversal = traverseTile(
-                h, f.groups[g].nodes,
-                {&camera, f.setup.lens, rasterizer.tileGrid().rect(tx, ty), farDepth},
-                f.setup.effects.motion, timeRefinementOf(rasterizer.options()), walkWork);
+            const TileTraversal traversal = f.walk(rays, tx, ty, g);
             if (!traversal.overlaps) return;
             TimeRange hull = TimeRange::empty();
             for (int j = 0; j < h.leafCount(); ++j)
@@ -172,22 +186,185 @@ TEST(RayStream, APassTestsTheSamplesInItsLeavesTimesAndCastsARayForEach) {
             std::int64_t inHull = 0;
             for (int i = 0; i < rays.count(); ++i)
                 inHull += rays.time[i] >= hull.lower && rays.time[i] <= hull.upper;
-            const int branch = branchNode(rasterizer.options().branchMethod, traversal, h.depth());
+            const StreamPass stream = f.passAfter(traversal, g);
             RasterWork pass;
-            traceRayStream(
-                rays, {&f.meshes[g], &h, &traversal, branch, rasterizer.options().zCulling}, pass);
+            traceRayStream(rays, stream, pass);
             ++passes;
             narrowed += inHull < rays.count();
             ASSERT_EQ(pass.samplesTested, inHull) << path << " tile " << tx << "," << ty;
             ASSERT_EQ(pass.raysCast, inHull);
             ASSERT_EQ(pass.samplesRejectedTime, rays.count() - inHull);
             ASSERT_GE(pass.rayBoxTests, inHull);
-            ASSERT_EQ(pass.branchDepthSum, h.levelOf(branch));
+            ASSERT_EQ(pass.branchDepthSum, h.levelOf(stream.branchNode));
         });
         EXPECT_GT(passes, 50u) << path;
         if (f.setup.effects.motion) {
             EXPECT_GT(narrowed, passes / 10) << path << ": time should narrow many passes";
         }
+    }
+}
+
+// A pass replayed one ray at a time with the scalar tests, as an independent model of what the
+// vector pass computes and counts. Each ray's work depends only on its own state (its end and its
+// nearest hit so far), and the vector pass takes each ray through the hierarchy depth first,
+// nearer child first, testing both children with the end the ray had when they were tested: so
+// one ray's walk, replayed alone in that order, meets the same boxes and triangles.
+class ScalarPass {
+  public:
+    ScalarPass(const TileRays& rays, const MovingMesh& mesh, const PatchHierarchy& h,
+               const TileTraversal& traversal)
+        : rays_(rays), mesh_(mesh), h_(h), times_(std::size_t(2 * h.leafCount() - 1)) {
+        const int firstLeaf = PatchHierarchy::firstLeaf(h.depth());
+        for (int j = 0; j < h.leafCount(); ++j)
+            times_[std::size_t(firstLeaf + j)] = (traversal.leafMask >> j & 1u)
+                                                     ? traversal.leafTimes[std::size_t(j)]
+                                                     : TimeRange::empty();
+        for (int i = firstLeaf - 1; i >= 0; --i) {
+            times_[std::size_t(i)] = times_[std::size_t(2 * i + 1)];
+            times_[std::size_t(i)].extend(times_[std::size_t(2 * i + 2)]);
+        }
+        for (int i = 0; i < rays.padded(); ++i)
+            samples.push_back({rays.rayEnd[i], rays.bestDepth[i], rays.bestPatch[i],
+                               rays.bestTriangle[i], rays.bestB1[i], rays.bestB2[i], false});
+    }
+
+    struct SampleState {
+        float end, depth;
+        std::int32_t patch;
+        std::uint32_t triangle;
+        float b1, b2;
+        bool improved;
+    };
+
+    void run(int start) {
+        for (int i = 0; i < rays_.count(); ++i) {
+            if (!times_[std::size_t(start)].contains(rays_.time[i])) continue;
+            ++work.samplesTested;
+            ++work.raysCast;
+            ++work.rayBoxTests;
+            if (hits(start, i)) visit(start, i);
+        }
+        for (const SampleState& s : samples) work.visibilitySamples += s.improved;
+    }
+
+    RasterWork work;
+    std::vector<SampleState> samples;  // per sample of the tile
+
+  private:
+    bool hits(int node, int i) const {
+        Ray ray = rays_.ray(i);
+        ray.lambdaMax = samples[std::size_t(i)].end;
+        return hitsMovingBox(makeSlabRay(ray), h_.node(node));
+    }
+
+    void visit(int node, int i) {
+        if (h_.isLeaf(node)) return leaf(node, i);
+        int first = 2 * node + 1, second = 2 * node + 2;
+        const LBBox &a = h_.node(first), &b = h_.node(second);
+        if (b.bounds0.upper.z + b.bounds1.upper.z > a.bounds0.upper.z + a.bounds1.upper.z)
+            std::swap(first, second);
+        bool met[2] = {false, false};
+        const int children[2] = {first, second};
+        for (int c = 0; c < 2; ++c) {
+            if (!times_[std::size_t(children[c])].contains(rays_.time[i])) continue;
+            ++work.rayBoxTests;
+            met[c] = hits(children[c], i);
+        }
+        for (int c = 0; c < 2; ++c)
+            if (met[c]) visit(children[c], i);
+    }
+
+    void leaf(int node, int i) {
+        std::size_t count;
+        const std::uint32_t* triangles =
+            h_.leafTriangles(node - PatchHierarchy::firstLeaf(h_.depth()), count);
+        SampleState& s = samples[std::size_t(i)];
+        const Ray ray = rays_.ray(i);
+        const ShearedRay sheared = shearRay(ray);
+        float end = s.end;
+        SampleState best{end, std::numeric_limits<float>::infinity(), -1, 0, 0, 0, false};
+        bool found = false;
+        for (std::size_t k = 0; k < count; ++k) {
+            ++work.rayTriangleTests;
+            const std::uint32_t* v = &mesh_.indices[3 * std::size_t(triangles[k])];
+            TriangleHit hit;
+            if (!intersectTriangle(sheared, mesh_.vertexAt(v[0], ray.time),
+                                   mesh_.vertexAt(v[1], ray.time), mesh_.vertexAt(v[2], ray.time),
+                                   rays_.lambdaMin(), end, hit))
+                continue;
+            const SampleState candidate{0,
+                                        hit.lambda * rays_.depthPerLambda(),
+                                        mesh_.patchOf(triangles[k]),
+                                        mesh_.triangleInPatchOf(triangles[k]),
+                                        hit.b1,
+                                        hit.b2,
+                                        false};
+            if (!nearer(candidate, best)) continue;
+            best = candidate;
+            end = std::min(end, rayEndAtDepth(candidate.depth, rays_.depthPerLambda()));
+            found = true;
+        }
+        if (!found || !nearer(best, s)) return;
+        s = {end, best.depth, best.patch, best.triangle, best.b1, best.b2, true};
+    }
+
+    // VisibilityRecord::nearerThan.
+    static bool nearer(const SampleState& a, const SampleState& b) {
+        if (a.depth != b.depth) return a.depth < b.depth;
+        if (a.patch != b.patch) return std::uint32_t(a.patch) < std::uint32_t(b.patch);
+        return a.triangle < b.triangle;
+    }
+
+    const TileRays& rays_;
+    const MovingMesh& mesh_;
+    const PatchHierarchy& h_;
+    std::vector<TimeRange> times_;
+};
+
+bool sameBits(float a, float b) {
+    return std::memcmp(&a, &b, sizeof a) == 0;
+}
+
+// Every pass of a frame against its scalar replay: the same counts (samples tested, rays, box and
+// triangle tests, visibility samples) and, per sample, the same nearest hit and ray end, bit for
+// bit. With and without a lens, moving and static.
+TEST(RayStream, EveryPassCountsWhatItsScalarReplayCounts) {
+    for (const char* path : {"scenes/motion_defocus.json", "scenes/static.json"}) {
+        GroupedFrame f(path, {64, 48, 4, 1});
+        TileRays rays(f.frame);
+        std::size_t passes = 0;
+        std::int64_t boxTests = 0, triangleTests = 0, visible = 0;
+        f.forEachCoveredTile(rays, [&](int tx, int ty, std::size_t g) {
+            const TileTraversal traversal = f.walk(rays, tx, ty, g);
+            if (!traversal.overlaps) return;
+            const StreamPass stream = f.passAfter(traversal, g);
+            ScalarPass replay(rays, f.meshes[g], f.groups[g].hierarchy, traversal);
+            replay.run(stream.branchNode);
+            RasterWork pass;
+            traceRayStream(rays, stream, pass);
+            ++passes;
+            ASSERT_EQ(pass.samplesTested, replay.work.samplesTested)
+                << path << " " << tx << "," << ty;
+            ASSERT_EQ(pass.raysCast, replay.work.raysCast);
+            ASSERT_EQ(pass.rayBoxTests, replay.work.rayBoxTests) << path << " " << tx << "," << ty;
+            ASSERT_EQ(pass.rayTriangleTests, replay.work.rayTriangleTests);
+            ASSERT_EQ(pass.visibilitySamples, replay.work.visibilitySamples);
+            for (int i = 0; i < rays.count(); ++i) {
+                const ScalarPass::SampleState& s = replay.samples[std::size_t(i)];
+                ASSERT_TRUE(sameBits(rays.bestDepth[i], s.depth)) << i;
+                ASSERT_EQ(rays.bestPatch[i], s.patch);
+                ASSERT_EQ(rays.bestTriangle[i], s.triangle);
+                ASSERT_TRUE(sameBits(rays.bestB1[i], s.b1) && sameBits(rays.bestB2[i], s.b2));
+                ASSERT_TRUE(sameBits(rays.rayEnd[i], s.end)) << i;
+            }
+            boxTests += pass.rayBoxTests;
+            triangleTests += pass.rayTriangleTests;
+            visible += pass.visibilitySamples;
+        });
+        EXPECT_GT(passes, 50u) << path;
+        EXPECT_GT(boxTests, 10000) << path;
+        EXPECT_GT(triangleTests, 5000) << path;
+        EXPECT_GT(visible, 1000) << path;
     }
 }
 
