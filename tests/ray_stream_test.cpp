@@ -69,9 +69,9 @@ struct GroupedFrame {
     TileRayFrame frame;
     RasterWork work;
 
-    explicit GroupedFrame(const char* path, FilmDesc film)
+    GroupedFrame(const char* path, FilmDesc film, const RasterizerOptions& options = {})
         : scene(withFilm(readSceneFile(test::sourcePath(path)), film)),
-          setup(scene),
+          setup(scene, options),
           groups(setup.fe.patchCount()),
           buffer(film.width, film.height, film.samplesPerPixel, setup.fe.camera().farPlane()),
           frame{&setup.fe.camera(),
@@ -236,7 +236,16 @@ class ScalarPass {
         bool improved;
     };
 
-    void run(int start) {
+    // `zCulling` false: the pass first sets the ends of the samples in its index range to the far
+    // plane's.
+    void run(int start, bool zCulling) {
+        if (!zCulling) {
+            int first, last;
+            rays_.indexRange(times_[std::size_t(start)], first, last);
+            for (int i = first; i < last; ++i)
+                samples[std::size_t(i)].end =
+                    rayEndAtDepth(rays_.farDepth(), rays_.depthPerLambda());
+        }
         for (int i = 0; i < rays_.count(); ++i) {
             if (!times_[std::size_t(start)].contains(rays_.time[i])) continue;
             ++work.samplesTested;
@@ -327,45 +336,49 @@ bool sameBits(float a, float b) {
 
 // Every pass of a frame against its scalar replay: the same counts (samples tested, rays, box and
 // triangle tests, visibility samples) and, per sample, the same nearest hit and ray end, bit for
-// bit. With and without a lens, moving and static.
+// bit. With and without a lens, moving and static, with and without z culling.
 TEST(RayStream, EveryPassCountsWhatItsScalarReplayCounts) {
-    for (const char* path : {"scenes/motion_defocus.json", "scenes/static.json"}) {
-        GroupedFrame f(path, {64, 48, 4, 1});
-        TileRays rays(f.frame);
-        std::size_t passes = 0;
-        std::int64_t boxTests = 0, triangleTests = 0, visible = 0;
-        f.forEachCoveredTile(rays, [&](int tx, int ty, std::size_t g) {
-            const TileTraversal traversal = f.walk(rays, tx, ty, g);
-            if (!traversal.overlaps) return;
-            const StreamPass stream = f.passAfter(traversal, g);
-            ScalarPass replay(rays, f.meshes[g], f.groups[g].hierarchy, traversal);
-            replay.run(stream.branchNode);
-            RasterWork pass;
-            traceRayStream(rays, stream, pass);
-            ++passes;
-            ASSERT_EQ(pass.samplesTested, replay.work.samplesTested)
-                << path << " " << tx << "," << ty;
-            ASSERT_EQ(pass.raysCast, replay.work.raysCast);
-            ASSERT_EQ(pass.rayBoxTests, replay.work.rayBoxTests) << path << " " << tx << "," << ty;
-            ASSERT_EQ(pass.rayTriangleTests, replay.work.rayTriangleTests);
-            ASSERT_EQ(pass.visibilitySamples, replay.work.visibilitySamples);
-            for (int i = 0; i < rays.count(); ++i) {
-                const ScalarPass::SampleState& s = replay.samples[std::size_t(i)];
-                ASSERT_TRUE(sameBits(rays.bestDepth[i], s.depth)) << i;
-                ASSERT_EQ(rays.bestPatch[i], s.patch);
-                ASSERT_EQ(rays.bestTriangle[i], s.triangle);
-                ASSERT_TRUE(sameBits(rays.bestB1[i], s.b1) && sameBits(rays.bestB2[i], s.b2));
-                ASSERT_TRUE(sameBits(rays.rayEnd[i], s.end)) << i;
-            }
-            boxTests += pass.rayBoxTests;
-            triangleTests += pass.rayTriangleTests;
-            visible += pass.visibilitySamples;
-        });
-        EXPECT_GT(passes, 50u) << path;
-        EXPECT_GT(boxTests, 10000) << path;
-        EXPECT_GT(triangleTests, 5000) << path;
-        EXPECT_GT(visible, 1000) << path;
-    }
+    for (const char* path : {"scenes/motion_defocus.json", "scenes/static.json"})
+        for (bool zCulling : {true, false}) {
+            RasterizerOptions options;
+            options.zCulling = zCulling;
+            GroupedFrame f(path, {64, 48, 4, 1}, options);
+            TileRays rays(f.frame);
+            std::size_t passes = 0;
+            std::int64_t boxTests = 0, triangleTests = 0, visible = 0;
+            f.forEachCoveredTile(rays, [&](int tx, int ty, std::size_t g) {
+                const TileTraversal traversal = f.walk(rays, tx, ty, g);
+                if (!traversal.overlaps) return;
+                const StreamPass stream = f.passAfter(traversal, g);
+                ScalarPass replay(rays, f.meshes[g], f.groups[g].hierarchy, traversal);
+                replay.run(stream.branchNode, stream.zCulling);
+                RasterWork pass;
+                traceRayStream(rays, stream, pass);
+                ++passes;
+                ASSERT_EQ(pass.samplesTested, replay.work.samplesTested)
+                    << path << " " << tx << "," << ty;
+                ASSERT_EQ(pass.raysCast, replay.work.raysCast);
+                ASSERT_EQ(pass.rayBoxTests, replay.work.rayBoxTests)
+                    << path << " " << tx << "," << ty;
+                ASSERT_EQ(pass.rayTriangleTests, replay.work.rayTriangleTests);
+                ASSERT_EQ(pass.visibilitySamples, replay.work.visibilitySamples);
+                for (int i = 0; i < rays.count(); ++i) {
+                    const ScalarPass::SampleState& s = replay.samples[std::size_t(i)];
+                    ASSERT_TRUE(sameBits(rays.bestDepth[i], s.depth)) << i;
+                    ASSERT_EQ(rays.bestPatch[i], s.patch);
+                    ASSERT_EQ(rays.bestTriangle[i], s.triangle);
+                    ASSERT_TRUE(sameBits(rays.bestB1[i], s.b1) && sameBits(rays.bestB2[i], s.b2));
+                    ASSERT_TRUE(sameBits(rays.rayEnd[i], s.end)) << i;
+                }
+                boxTests += pass.rayBoxTests;
+                triangleTests += pass.rayTriangleTests;
+                visible += pass.visibilitySamples;
+            });
+            EXPECT_GT(passes, 50u) << path;
+            EXPECT_GT(boxTests, 10000) << path;
+            EXPECT_GT(triangleTests, 5000) << path;
+            EXPECT_GT(visible, 1000) << path;
+        }
 }
 
 }  // namespace
