@@ -108,21 +108,24 @@ TEST(TileRays, EverySampleOnceInItsTileByTimeBucketThenMortonPixel) {
 // the counting sort, whichever of the tile's pixels it is.
 TEST(TileRays, APixelWithTwoSamplesInOneBucketKeepsTheOrder) {
     Frame f(SamplePattern::Stratified, true, 0.2f);
-    const SampleTable table(f.generator, kGrid.width, kGrid.height, 1);
+    SampleTable table(f.generator, kGrid.width, kGrid.height, 1);
     TileRayFrame tiles = f.tiles;
     tiles.samples.table = &table;
     const VisibilityBuffer buffer(kGrid.width, kGrid.height, 9, f.camera.farPlane());
     TileRays rays(tiles);
     const auto expected = [&](int x, int y, int s) { return table.pixel(x, y)[s]; };
-    // The first, a middle and the last pixel of tile (1, 1) in Morton order; one pixel at a time.
-    for (const auto& [x, y] : {std::pair{8, 8}, std::pair{10, 9}, std::pair{15, 15}}) {
+    // The first, a middle (Morton rank 27 of 64) and the last pixel of tile (1, 0), a whole tile;
+    // one pixel at a time.
+    const TileRect r = kGrid.rect(1, 0);
+    ASSERT_EQ((r.x1 - r.x0) * (r.y1 - r.y0), 64);
+    for (const auto& [x, y] : {std::pair{8, 0}, std::pair{13, 3}, std::pair{15, 7}}) {
+        ASSERT_TRUE(x >= r.x0 && x < r.x1 && y >= r.y0 && y < r.y1);
         // The table's own storage, edited for the test: sample 0 moves into sample 1's bucket.
         auto* samples = const_cast<Sample*>(table.pixel(x, y));
         const float before = samples[0].time;
         samples[0].time = samples[1].time;
         ASSERT_EQ(rays.bucketOf(samples[0].time), rays.bucketOf(samples[1].time));
         std::vector<int> seen(buffer.records().size(), 0);
-        const TileRect r = kGrid.rect(1, 1);
         rays.load(r, buffer);
         expectOrderedByBucketThenMortonPixel(rays, r, 9, expected, seen);
         EXPECT_EQ(std::count(seen.begin(), seen.end(), 1), rays.count());
