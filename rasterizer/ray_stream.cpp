@@ -98,9 +98,9 @@ class Pass {
 
     void run() {
         const TileTraversal& traversal = *pass_.traversal;
-        const int start = pass_.branchNode;
-        nodeTimes(traversal.leafMask, start);
-        work_.branchDepthSum += h_.levelOf(start);
+        const int start = pass_.branchNode, startLevel = h_.levelOf(start);
+        nodeTimes(traversal.leafMask, start, startLevel);
+        work_.branchDepthSum += startLevel;
         int first, last;
         rays_.indexRange(times_[start], first, last);
         for (int b = first / kMaxLanes; b < (last + kMaxLanes - 1) / kMaxLanes; ++b)
@@ -119,12 +119,12 @@ class Pass {
     }
 
   private:
-    // The time range of each node below `start` (the descent reads no other): the union (hull)
-    // of the intervals of its leaves in `leaves`; empty when it has none. The subtree's nodes at
-    // each level are a run of consecutive indices.
-    void nodeTimes(std::uint64_t leaves, int start) {
+    // The time range of each node below `start`, at `startLevel` (the descent reads no other):
+    // the union (hull) of the intervals of its leaves in `leaves`; empty when it has none. The
+    // subtree's nodes at each level are a run of consecutive indices.
+    void nodeTimes(std::uint64_t leaves, int start, int startLevel) {
         const TileTraversal& t = *pass_.traversal;
-        const int below = h_.depth() - h_.levelOf(start);  // levels from start down to the leaves
+        const int below = h_.depth() - startLevel;  // levels from start down to the leaves
         const int firstLeaf = PatchHierarchy::firstLeaf(h_.depth());
         const int leavesFrom = ((start + 1) << below) - 1;
         for (int node = leavesFrom; node < leavesFrom + (1 << below); ++node) {

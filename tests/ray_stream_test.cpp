@@ -117,13 +117,15 @@ struct GroupedFrame {
     }
 
     // `visit(tx, ty, g)` for every group g whose bounds cover tile (tx, ty), the tile's rays
-    // loaded into `rays` from the buffer, and written back after the tile's last group.
-    template <class Visit>
-    void forEachCoveredTile(TileRays& rays, const Visit& visit) {
+    // loaded into `rays` from the buffer (`loaded()` is called then, before any group), and
+    // written back after the tile's last group.
+    template <class Visit, class Loaded>
+    void forEachCoveredTile(TileRays& rays, const Visit& visit, const Loaded& loaded) {
         const TileGrid& grid = setup.rasterizer.tileGrid();
         for (int ty = 0; ty < grid.tilesY(); ++ty)
             for (int tx = 0; tx < grid.tilesX(); ++tx) {
                 rays.load(grid.rect(tx, ty), buffer);
+                loaded();
                 for (std::size_t g = 0; g < groups.size(); ++g) {
                     const TileRange& covered = groups[g].tiles;
                     if (tx >= covered.x0 && tx < covered.x1 && ty >= covered.y0 && ty < covered.y1)
@@ -131,6 +133,10 @@ struct GroupedFrame {
                 }
                 rays.store(buffer, nullptr);
             }
+    }
+    template <class Visit>
+    void forEachCoveredTile(TileRays& rays, const Visit& visit) {
+        forEachCoveredTile(rays, visit, [] {});
     }
 };
 
@@ -150,19 +156,19 @@ TEST(RayStream, WithZCullingEveryRayEndsAtItsDepthBoundAfterEachPass) {
         return std::memcmp(&end, &rays.rayEnd[i], sizeof end) == 0;
     };
     std::size_t passes = 0, shortened = 0, wrong = 0;
-    int lastTile = -1;
-    f.forEachCoveredTile(rays, [&](int tx, int ty, std::size_t g) {
-        if (tx + 1000 * ty != lastTile) {  // the tile as loaded, before its first pass
+    f.forEachCoveredTile(
+        rays,
+        [&](int tx, int ty, std::size_t g) {
+            rasterizer.rasterizeTile(f.meshes[g], f.groups[g], tx, ty, rays, targets, f.work);
+            ++passes;
+            for (int i = 0; i < rays.count(); ++i) {
+                wrong += !endsAtDepthBound(i);
+                shortened += rays.bestDepth[i] < rays.farDepth();
+            }
+        },
+        [&] {  // every tile as loaded, before its first pass
             for (int i = 0; i < rays.count(); ++i) wrong += !endsAtDepthBound(i);
-            lastTile = tx + 1000 * ty;
-        }
-        rasterizer.rasterizeTile(f.meshes[g], f.groups[g], tx, ty, rays, targets, f.work);
-        ++passes;
-        for (int i = 0; i < rays.count(); ++i) {
-            wrong += !endsAtDepthBound(i);
-            shortened += rays.bestDepth[i] < rays.farDepth();
-        }
-    });
+        });
     EXPECT_EQ(wrong, 0u);
     EXPECT_GT(passes, 100u);
     EXPECT_GT(shortened, 1000u) << "the passes should find hits";

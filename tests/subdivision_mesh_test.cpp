@@ -105,13 +105,11 @@ TEST(SubdivisionMesh, BfrStencilsAgreeWithFarPatchTableOnARegularSurface) {
 // stencils are the same, bit for bit, on any thread count. Creased and N-gon cages, where Bfr
 // builds irregular surfaces and faces share cached patch trees.
 TEST(SubdivisionMesh, SurfacesBuiltOnSeveralThreadsGiveOneThreadsStencils) {
-    std::vector<std::pair<std::string, SubdivisionScheme>> cages = {
+    const std::vector<std::pair<std::string, SubdivisionScheme>> cages = {
         {test::sourcePath("scenes/cages/catmark_cube_creases1.obj"), SubdivisionScheme::Catmark},
         {test::sourcePath("scenes/cages/catmark_nonquads.obj"), SubdivisionScheme::Catmark},
-        {test::sourcePath("scenes/cages/loop_icosahedron.obj"), SubdivisionScheme::Loop}};
-    if (!test::sharedModelFiles().empty())
-        cages.push_back(
-            {test::sharedModelsDir() + "/catmark_rook.obj", SubdivisionScheme::Catmark});
+        {test::sourcePath("scenes/cages/loop_icosahedron.obj"), SubdivisionScheme::Loop},
+        {test::sourcePath("scenes/cages/catmark_rook.obj"), SubdivisionScheme::Catmark}};
     for (const auto& [path, scheme] : cages) {
         const Cage cage = readObjCage(path);
         const SubdivisionMesh one(cage, scheme, path, SubdivisionMesh::FarFaces::OnlyUnsafeForBfr,
