@@ -70,7 +70,9 @@ struct GroupedFrame {
     RasterWork work;
 
     GroupedFrame(const char* path, FilmDesc film, const RasterizerOptions& options = {})
-        : scene(withFilm(readSceneFile(test::sourcePath(path)), film)),
+        : GroupedFrame(readSceneFile(test::sourcePath(path)), film, options) {}
+    GroupedFrame(const SceneDesc& desc, FilmDesc film, const RasterizerOptions& options = {})
+        : scene(withFilm(desc, film)),
           setup(scene, options),
           groups(setup.fe.patchCount()),
           buffer(film.width, film.height, film.samplesPerPixel, setup.fe.camera().farPlane()),
@@ -86,6 +88,11 @@ struct GroupedFrame {
         const int leafSize = setup.rasterizer.options().leafSize;
         for (std::size_t i = 0; i < setup.fe.patchCount(); ++i) {
             meshes.push_back(setup.mesh(i, ws));
+            // Opaque or not as the frame driver decides (runFrontEnd).
+            const MaterialDesc& m =
+                setup.fe.objects()[std::size_t(meshes[i].objectId)].desc.material;
+            meshes[i].opaque =
+                !setup.effects.transparency || (m.opacity >= 1.0f && m.closeOpacity >= 1.0f);
             const HierarchyOrder all =
                 hierarchyOrder(meshes[i], int(meshes[i].triangleCount()), leafSize);
             setup.rasterizer.prepareGroup(meshes[i], all.triangles.data(), all.triangles.size(),
@@ -109,11 +116,15 @@ struct GroupedFrame {
                             {&camera, setup.lens, r.tileGrid().rect(tx, ty), farDepth},
                             setup.effects.motion, timeRefinementOf(r.options()), walkWork);
     }
-    StreamPass passAfter(const TileTraversal& traversal, std::size_t g) const {
+    // A transparent group's pass offers its hits to `layers`, pool 0, as rasterizeTile does.
+    StreamPass passAfter(const TileTraversal& traversal, std::size_t g,
+                         TransparentLayers* layers = nullptr) const {
         const RasterizerOptions& options = setup.rasterizer.options();
         const PatchHierarchy& h = groups[g].hierarchy;
-        return {&meshes[g], &h, &traversal, branchNode(options.branchMethod, traversal, h.depth()),
-                options.zCulling};
+        StreamPass pass{&meshes[g], &h, &traversal,
+                        branchNode(options.branchMethod, traversal, h.depth()), options.zCulling};
+        if (!meshes[g].opaque) pass.transparent = layers;
+        return pass;
     }
 
     // `visit(tx, ty, g)` for every group g whose bounds cover tile (tx, ty), the tile's rays
@@ -214,12 +225,18 @@ TEST(RayStream, APassTestsTheSamplesInItsLeavesTimesAndCastsARayForEach) {
 // vector pass computes and counts. Each ray's work depends only on its own state (its end and its
 // nearest hit so far), and the vector pass takes each ray through the hierarchy depth first,
 // nearer child first, testing both children with the end the ray had when they were tested: so
-// one ray's walk, replayed alone in that order, meets the same boxes and triangles.
+// one ray's walk, replayed alone in that order, meets the same boxes and triangles. A pass that
+// keeps every hit (`layers` set: a transparent mesh) offers each to the layers instead, in the
+// order the vector pass offers a sample's hits: leaf by leaf in that order, triangle by triangle.
 class ScalarPass {
   public:
     ScalarPass(const TileRays& rays, const MovingMesh& mesh, const PatchHierarchy& h,
-               const TileTraversal& traversal)
-        : rays_(rays), mesh_(mesh), h_(h), times_(std::size_t(2 * h.leafCount() - 1)) {
+               const TileTraversal& traversal, TransparentLayers* layers = nullptr)
+        : rays_(rays),
+          mesh_(mesh),
+          h_(h),
+          layers_(layers),
+          times_(std::size_t(2 * h.leafCount() - 1)) {
         const int firstLeaf = PatchHierarchy::firstLeaf(h.depth());
         for (int j = 0; j < h.leafCount(); ++j)
             times_[std::size_t(firstLeaf + j)] = (traversal.leafMask >> j & 1u)
@@ -243,14 +260,18 @@ class ScalarPass {
     };
 
     // `zCulling` false: the pass first sets the ends of the samples in its index range to the far
-    // plane's.
+    // plane's, or, keeping every hit, to their depth bound's (hits behind an opaque one are
+    // hidden).
     void run(int start, bool zCulling) {
         if (!zCulling) {
             int first, last;
             rays_.indexRange(times_[std::size_t(start)], first, last);
-            for (int i = first; i < last; ++i)
-                samples[std::size_t(i)].end =
-                    rayEndAtDepth(rays_.farDepth(), rays_.depthPerLambda());
+            for (int i = first; i < last; ++i) {
+                SampleState& s = samples[std::size_t(i)];
+                const float bound =
+                    layers_ && s.depth < rays_.farDepth() ? s.depth : rays_.farDepth();
+                s.end = rayEndAtDepth(bound, rays_.depthPerLambda());
+            }
         }
         for (int i = 0; i < rays_.count(); ++i) {
             if (!times_[std::size_t(start)].contains(rays_.time[i])) continue;
@@ -264,6 +285,7 @@ class ScalarPass {
 
     RasterWork work;
     std::vector<SampleState> samples;  // per sample of the tile
+    std::int64_t hiddenHits = 0;       // transparent hits beyond their ray's end (not offered)
 
   private:
     bool hits(int node, int i) const {
@@ -293,6 +315,7 @@ class ScalarPass {
         std::size_t count;
         const std::uint32_t* triangles =
             h_.leafTriangles(node - PatchHierarchy::firstLeaf(h_.depth()), count);
+        if (layers_) return offerEveryHit(triangles, count, i);
         SampleState& s = samples[std::size_t(i)];
         const Ray ray = rays_.ray(i);
         const ShearedRay sheared = shearRay(ray);
@@ -323,6 +346,35 @@ class ScalarPass {
         s = {end, best.depth, best.patch, best.triangle, best.b1, best.b2, true};
     }
 
+    void offerEveryHit(const std::uint32_t* triangles, std::size_t count, int i) {
+        const Ray ray = rays_.ray(i);
+        const ShearedRay sheared = shearRay(ray);
+        for (std::size_t k = 0; k < count; ++k) {
+            ++work.rayTriangleTests;
+            const std::uint32_t* v = &mesh_.indices[3 * std::size_t(triangles[k])];
+            const Vec3 a = mesh_.vertexAt(v[0], ray.time), b = mesh_.vertexAt(v[1], ray.time),
+                       c = mesh_.vertexAt(v[2], ray.time);
+            TriangleHit hit;
+            if (!intersectTriangle(sheared, a, b, c, rays_.lambdaMin(), samples[std::size_t(i)].end,
+                                   hit)) {
+                hiddenHits += intersectTriangle(sheared, a, b, c, rays_.lambdaMin(),
+                                                std::numeric_limits<float>::infinity(), hit);
+                continue;
+            }
+            VisibilityRecord record;
+            record.depth = hit.lambda * rays_.depthPerLambda();
+            record.patch = mesh_.patchOf(triangles[k]);
+            record.triangle = mesh_.triangleInPatchOf(triangles[k]);
+            record.b1 = hit.b1;
+            record.b2 = hit.b2;
+            record.time = rays_.time[i];
+            record.lens = {rays_.lensU[i], rays_.lensV[i]};
+            ++work.transparentFragments;
+            if (!layers_->offer(rays_.record[i], 0, LayerFragment{record, mesh_.objectId}))
+                ++work.transparentOverflow;
+        }
+    }
+
     // VisibilityRecord::nearerThan.
     static bool nearer(const SampleState& a, const SampleState& b) {
         if (a.depth != b.depth) return a.depth < b.depth;
@@ -333,6 +385,7 @@ class ScalarPass {
     const TileRays& rays_;
     const MovingMesh& mesh_;
     const PatchHierarchy& h_;
+    TransparentLayers* layers_;
     std::vector<TimeRange> times_;
 };
 
@@ -340,27 +393,77 @@ bool sameBits(float a, float b) {
     return std::memcmp(&a, &b, sizeof a) == 0;
 }
 
+bool sameFragment(const LayerFragment& a, const LayerFragment& b) {
+    const VisibilityRecord &x = a.record, &y = b.record;
+    return sameBits(x.depth, y.depth) && x.patch == y.patch && x.triangle == y.triangle &&
+           sameBits(x.b1, y.b1) && sameBits(x.b2, y.b2) && sameBits(x.time, y.time) &&
+           sameBits(x.lens.x, y.lens.x) && sameBits(x.lens.y, y.lens.y) && a.object == b.object;
+}
+
+// Sample i's transparent layers, the pass's against the replay's: the same fragments, bit for bit,
+// in the same slots.
+::testing::AssertionResult sameLayers(const TransparentLayers& pass,
+                                      const TransparentLayers& replay, std::size_t sample) {
+    if (pass.count(sample) != replay.count(sample))
+        return ::testing::AssertionFailure() << "sample " << sample << ": " << pass.count(sample)
+                                             << " layers against " << replay.count(sample);
+    for (int k = 0; k < pass.count(sample); ++k)
+        if (!sameFragment(pass.layers(sample)[k], replay.layers(sample)[k]))
+            return ::testing::AssertionFailure() << "sample " << sample << ", layer " << k;
+    return ::testing::AssertionSuccess();
+}
+
 // Every pass of a frame against its scalar replay: the same counts (samples tested, rays, box and
-// triangle tests, visibility samples) and, per sample, the same nearest hit and ray end, bit for
-// bit. With and without a lens, moving and static, with and without z culling.
+// triangle tests, visibility samples, transparent fragments) and, per sample, the same nearest hit
+// and ray end, bit for bit, and the same transparent layers. With and without a lens, moving and
+// static, opaque and transparent, with and without z culling.
+// transparency.json with its glass cube, larger, sweeping behind the torus, seen through a lens:
+// the cube's hits behind the torus are culled by the rays' ends, the others are kept.
+SceneDesc glassBehindTorus() {
+    SceneDesc scene = readSceneFile(test::sourcePath("scenes/transparency.json"));
+    ObjectDesc& cube = scene.objects.at(1);
+    cube.open.translate.z = cube.close.translate.z = -1.5f;
+    cube.open.scale = cube.close.scale = Vec3(1.5f);
+    scene.lens.apertureRadius = 0.12f;
+    scene.lens.focusDistance = 6.0f;
+    return scene;
+}
+
 TEST(RayStream, EveryPassCountsWhatItsScalarReplayCounts) {
-    for (const char* path : {"scenes/motion_defocus.json", "scenes/static.json"})
+    struct ReplayedScene {
+        const char* name;
+        SceneDesc scene;
+        std::int64_t minHiddenHits;  // transparent hits its ray ends must cull
+    };
+    const auto shipped = [](const char* path) { return readSceneFile(test::sourcePath(path)); };
+    const ReplayedScene scenes[] = {
+        {"scenes/motion_defocus.json", shipped("scenes/motion_defocus.json"), 0},
+        {"scenes/static.json", shipped("scenes/static.json"), 0},
+        {"scenes/transparency.json", shipped("scenes/transparency.json"), 0},
+        {"glass behind the torus", glassBehindTorus(), 100}};
+    for (const auto& [path, scene, minHiddenHits] : scenes)
         for (bool zCulling : {true, false}) {
             RasterizerOptions options;
             options.zCulling = zCulling;
-            GroupedFrame f(path, {64, 48, 4, 1}, options);
+            const FilmDesc film{64, 48, 4, 1};
+            GroupedFrame f(scene, film, options);
             TileRays rays(f.frame);
-            std::size_t passes = 0;
-            std::int64_t boxTests = 0, triangleTests = 0, visible = 0;
+            const std::size_t filmSamples =
+                std::size_t(film.width * film.height * film.samplesPerPixel);
+            TransparentLayers passLayers(filmSamples, 16), replayLayers(filmSamples, 16);
+            std::size_t passes = 0, transparentPasses = 0;
+            std::int64_t boxTests = 0, triangleTests = 0, visible = 0, fragments = 0, hidden = 0;
             f.forEachCoveredTile(rays, [&](int tx, int ty, std::size_t g) {
                 const TileTraversal traversal = f.walk(rays, tx, ty, g);
                 if (!traversal.overlaps) return;
-                const StreamPass stream = f.passAfter(traversal, g);
-                ScalarPass replay(rays, f.meshes[g], f.groups[g].hierarchy, traversal);
+                const StreamPass stream = f.passAfter(traversal, g, &passLayers);
+                ScalarPass replay(rays, f.meshes[g], f.groups[g].hierarchy, traversal,
+                                  stream.transparent ? &replayLayers : nullptr);
                 replay.run(stream.branchNode, stream.zCulling);
                 RasterWork pass;
                 traceRayStream(rays, stream, pass);
                 ++passes;
+                transparentPasses += stream.transparent != nullptr;
                 ASSERT_EQ(pass.samplesTested, replay.work.samplesTested)
                     << path << " " << tx << "," << ty;
                 ASSERT_EQ(pass.raysCast, replay.work.raysCast);
@@ -368,6 +471,8 @@ TEST(RayStream, EveryPassCountsWhatItsScalarReplayCounts) {
                     << path << " " << tx << "," << ty;
                 ASSERT_EQ(pass.rayTriangleTests, replay.work.rayTriangleTests);
                 ASSERT_EQ(pass.visibilitySamples, replay.work.visibilitySamples);
+                ASSERT_EQ(pass.transparentFragments, replay.work.transparentFragments);
+                ASSERT_EQ(pass.transparentOverflow, replay.work.transparentOverflow);
                 for (int i = 0; i < rays.count(); ++i) {
                     const ScalarPass::SampleState& s = replay.samples[std::size_t(i)];
                     ASSERT_TRUE(sameBits(rays.bestDepth[i], s.depth)) << i;
@@ -375,15 +480,26 @@ TEST(RayStream, EveryPassCountsWhatItsScalarReplayCounts) {
                     ASSERT_EQ(rays.bestTriangle[i], s.triangle);
                     ASSERT_TRUE(sameBits(rays.bestB1[i], s.b1) && sameBits(rays.bestB2[i], s.b2));
                     ASSERT_TRUE(sameBits(rays.rayEnd[i], s.end)) << i;
+                    if (stream.transparent) {
+                        ASSERT_TRUE(sameLayers(passLayers, replayLayers, rays.record[i]))
+                            << path << " " << tx << "," << ty;
+                    }
                 }
                 boxTests += pass.rayBoxTests;
                 triangleTests += pass.rayTriangleTests;
                 visible += pass.visibilitySamples;
+                fragments += pass.transparentFragments;
+                hidden += replay.hiddenHits;
             });
             EXPECT_GT(passes, 50u) << path;
             EXPECT_GT(boxTests, 10000) << path;
             EXPECT_GT(triangleTests, 5000) << path;
             EXPECT_GT(visible, 1000) << path;
+            if (f.setup.effects.transparency) {
+                EXPECT_GT(transparentPasses, 20u) << path;
+                EXPECT_GT(fragments, 1000) << path;
+            }
+            EXPECT_GE(hidden, minHiddenHits) << path;
         }
 }
 
