@@ -108,13 +108,22 @@ void reportCommon(benchmark::State& state, const Frame& f, std::int64_t hits) {
     state.counters["triangles"] = double(f.triangles);
 }
 
-// `tileSize` 0: the scene's own (the default options).
+// The modelled hardware's choices the study rows change; 0 keeps the scene's own (the defaults).
+struct DesignPoint {
+    int tileSize = 0;
+    int leafSize = 0;
+    int trianglesPerGroup = 0;
+};
+
 void patchRasterizer(benchmark::State& state, int scene, int blur, bool lens, int threads,
-                     int tileSize) {
+                     DesignPoint design) {
     const Frame& f = frame(scene, blur, lens);
     const Camera& camera = f.frontEnd->camera();
     RasterizerOptions rasterizerOptions = f.scene.rasterizer;
-    if (tileSize > 0) rasterizerOptions.tileSize = tileSize;
+    if (design.tileSize > 0) rasterizerOptions.tileSize = design.tileSize;
+    if (design.leafSize > 0) rasterizerOptions.leafSize = design.leafSize;
+    if (design.trianglesPerGroup > 0)
+        rasterizerOptions.maxTrianglesPerGroup = design.trianglesPerGroup;
     const PatchRasterizer rasterizer(camera, f.lens, *f.samples, f.effects, rasterizerOptions);
     FrameRasterOptions options;
     options.threads = threads;
@@ -247,7 +256,8 @@ int registerAll() {
                                                kBlurNames[blur] + (lens ? "/lens" : "/pinhole") +
                                                "/threads:" + std::to_string(threads);
                     benchmark::RegisterBenchmark(("patchRasterizer" + suffix).c_str(),
-                                                 patchRasterizer, scene, blur, lens, threads, 0)
+                                                 patchRasterizer, scene, blur, lens, threads,
+                                                 DesignPoint{})
                         ->Unit(benchmark::kMillisecond)
                         ->UseRealTime();
                     benchmark::RegisterBenchmark(("embree" + suffix).c_str(), embree, scene, blur,
@@ -267,10 +277,23 @@ int registerAll() {
                                              std::to_string(tile) + "/" + kBlurNames[blur] +
                                              (lens ? "/lens" : "/pinhole");
                     benchmark::RegisterBenchmark(name.c_str(), patchRasterizer, scene, blur, lens,
-                                                 1, tile)
+                                                 1, DesignPoint{tile, 0, 0})
                         ->Unit(benchmark::kMillisecond)
                         ->UseRealTime();
                 }
+    // Fewer, larger units per tile on the micropolygon scene: hierarchies of 64 leaves of 4 (the
+    // default), 8, 16 and 32 triangles, so groups of 256 to 2,048 triangles (at 32, one group per
+    // patch of this scene), one thread each (groups/factor32:<leaf size>/<blur>/<lens>).
+    for (int blur = 0; blur < 3; ++blur)
+        for (bool lens : {false, true})
+            for (int leaf : {4, 8, 16, 32}) {
+                const std::string name = std::string("groups/factor32:") + std::to_string(leaf) +
+                                         "/" + kBlurNames[blur] + (lens ? "/lens" : "/pinhole");
+                benchmark::RegisterBenchmark(name.c_str(), patchRasterizer, 1, blur, lens, 1,
+                                             DesignPoint{0, leaf, kMaxLeavesPerHierarchy * leaf})
+                    ->Unit(benchmark::kMillisecond)
+                    ->UseRealTime();
+            }
     return 0;
 }
 const int registered = registerAll();
