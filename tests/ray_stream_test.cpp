@@ -413,12 +413,9 @@ bool sameFragment(const LayerFragment& a, const LayerFragment& b) {
     return ::testing::AssertionSuccess();
 }
 
-// Every pass of a frame against its scalar replay: the same counts (samples tested, rays, box and
-// triangle tests, visibility samples, transparent fragments) and, per sample, the same nearest hit
-// and ray end, bit for bit, and the same transparent layers. With and without a lens, moving and
-// static, opaque and transparent, with and without z culling.
-// transparency.json with its glass cube, larger, sweeping behind the torus, seen through a lens:
-// the cube's hits behind the torus are culled by the rays' ends, the others are kept.
+// transparency.json with its glass cube larger and set back, so that it sweeps through and behind
+// the torus, seen through a lens: the cube's hits behind the torus are culled by the rays' ends,
+// the others are kept.
 SceneDesc glassBehindTorus() {
     SceneDesc scene = readSceneFile(test::sourcePath("scenes/transparency.json"));
     ObjectDesc& cube = scene.objects.at(1);
@@ -429,6 +426,10 @@ SceneDesc glassBehindTorus() {
     return scene;
 }
 
+// Every pass of a frame against its scalar replay: the same counts (samples tested, rays, box and
+// triangle tests, visibility samples, transparent fragments) and, per sample, the same nearest hit
+// and ray end, bit for bit, and the same transparent layers. With and without a lens, moving and
+// static, opaque and transparent, with and without z culling.
 TEST(RayStream, EveryPassCountsWhatItsScalarReplayCounts) {
     struct ReplayedScene {
         const char* name;
