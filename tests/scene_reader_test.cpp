@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <filesystem>
+
 #include "pipeline/core/error.h"
 #include "tests/test_paths.h"
 
@@ -36,6 +38,58 @@ TEST(SceneReader, DefaultSceneIsBuiltIn) {
     EXPECT_EQ(scene.objects.size(), 3u);
     EXPECT_GT(scene.lens.apertureRadius, 0.0f);
     EXPECT_TRUE(scene.objects[0].cagePath.starts_with("builtin:"));
+}
+
+bool sameVec(const Vec3& a, const Vec3& b) {
+    return a.x == b.x && a.y == b.y && a.z == b.z;
+}
+
+bool sameTransform(const TransformDesc& a, const TransformDesc& b) {
+    return sameVec(a.translate, b.translate) && sameVec(a.rotateDegrees, b.rotateDegrees) &&
+           sameVec(a.scale, b.scale);
+}
+
+// docs/performance/factor32/ holds the Embree benchmark's `factor32` frames as scene files, for
+// `patchsim explore` (docs/PERFORMANCE.md, "Fewer, larger units on the micropolygon scene"): each
+// must be the built-in scene at a fixed factor of 32, still or with the scene's own motion (the
+// benchmark's large blur), with or without its lens, as bench/embree_compare_bench.cpp makes them.
+TEST(SceneReader, TheFactor32SceneFilesAreTheBenchmarksFrames) {
+    const SceneDesc builtIn = defaultScene();
+    struct Frame {
+        const char* file;
+        bool moves, lens;
+    };
+    for (const Frame& frame :
+         {Frame{"none_pinhole", false, false}, Frame{"none_lens", false, true},
+          Frame{"large_pinhole", true, false}, Frame{"large_lens", true, true}}) {
+        const std::string path =
+            test::sourcePath("docs/performance/factor32/" + std::string(frame.file) + ".json");
+        const SceneDesc s = readSceneFile(path);
+        EXPECT_EQ(s.tessellation.partitioning, builtIn.tessellation.partitioning) << path;
+        EXPECT_EQ(s.tessellation.targetEdgePixels, 0.0f) << path;
+        EXPECT_EQ(s.tessellation.factor, 32.0f) << path;
+        EXPECT_EQ(s.film.width, builtIn.film.width) << path;
+        EXPECT_EQ(s.film.height, builtIn.film.height) << path;
+        EXPECT_EQ(s.film.samplesPerPixel, builtIn.film.samplesPerPixel) << path;
+        EXPECT_EQ(s.film.seed, builtIn.film.seed) << path;
+        EXPECT_TRUE(sameVec(s.camera.open.position, builtIn.camera.open.position)) << path;
+        EXPECT_TRUE(sameVec(s.camera.open.lookAt, builtIn.camera.open.lookAt)) << path;
+        EXPECT_EQ(s.camera.fovYDegrees, builtIn.camera.fovYDegrees) << path;
+        EXPECT_EQ(s.lens.apertureRadius, frame.lens ? builtIn.lens.apertureRadius : 0.0f) << path;
+        EXPECT_EQ(s.lens.focusDistance, builtIn.lens.focusDistance) << path;
+        ASSERT_EQ(s.objects.size(), builtIn.objects.size()) << path;
+        for (std::size_t i = 0; i < s.objects.size(); ++i) {
+            const ObjectDesc &o = s.objects[i], &b = builtIn.objects[i];
+            EXPECT_EQ(std::filesystem::path(o.cagePath).filename(),
+                      std::filesystem::path(b.cagePath).filename())
+                << path;
+            EXPECT_TRUE(std::filesystem::exists(o.cagePath)) << o.cagePath;
+            EXPECT_TRUE(sameTransform(o.open, b.open)) << path << " " << o.name;
+            EXPECT_TRUE(sameTransform(o.close, frame.moves ? b.close : b.open))
+                << path << " " << o.name;
+            EXPECT_TRUE(sameVec(o.material.color, b.material.color)) << path << " " << o.name;
+        }
+    }
 }
 
 TEST(SceneReader, DefaultsAndResolution) {
