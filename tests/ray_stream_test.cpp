@@ -324,12 +324,8 @@ class ScalarPass {
         bool found = false;
         for (std::size_t k = 0; k < count; ++k) {
             ++work.rayTriangleTests;
-            const std::uint32_t* v = &mesh_.indices[3 * std::size_t(triangles[k])];
             TriangleHit hit;
-            if (!intersectTriangle(sheared, mesh_.vertexAt(v[0], ray.time),
-                                   mesh_.vertexAt(v[1], ray.time), mesh_.vertexAt(v[2], ray.time),
-                                   rays_.lambdaMin(), end, hit))
-                continue;
+            if (!intersects(sheared, ray, triangles[k], end, hit)) continue;
             const SampleState candidate{0,
                                         hit.lambda * rays_.depthPerLambda(),
                                         mesh_.patchOf(triangles[k]),
@@ -351,14 +347,10 @@ class ScalarPass {
         const ShearedRay sheared = shearRay(ray);
         for (std::size_t k = 0; k < count; ++k) {
             ++work.rayTriangleTests;
-            const std::uint32_t* v = &mesh_.indices[3 * std::size_t(triangles[k])];
-            const Vec3 a = mesh_.vertexAt(v[0], ray.time), b = mesh_.vertexAt(v[1], ray.time),
-                       c = mesh_.vertexAt(v[2], ray.time);
             TriangleHit hit;
-            if (!intersectTriangle(sheared, a, b, c, rays_.lambdaMin(), samples[std::size_t(i)].end,
-                                   hit)) {
-                hiddenHits += intersectTriangle(sheared, a, b, c, rays_.lambdaMin(),
-                                                std::numeric_limits<float>::infinity(), hit);
+            if (!intersects(sheared, ray, triangles[k], samples[std::size_t(i)].end, hit)) {
+                hiddenHits += intersects(sheared, ray, triangles[k],
+                                         std::numeric_limits<float>::infinity(), hit);
                 continue;
             }
             VisibilityRecord record;
@@ -373,6 +365,15 @@ class ScalarPass {
             if (!layers_->offer(rays_.record[i], 0, LayerFragment{record, mesh_.objectId}))
                 ++work.transparentOverflow;
         }
+    }
+
+    // The watertight test of the mesh's `triangle`, blended to the ray's time, out to `end`.
+    bool intersects(const ShearedRay& sheared, const Ray& ray, std::uint32_t triangle, float end,
+                    TriangleHit& hit) const {
+        const std::uint32_t* v = &mesh_.indices[3 * std::size_t(triangle)];
+        return intersectTriangle(sheared, mesh_.vertexAt(v[0], ray.time),
+                                 mesh_.vertexAt(v[1], ray.time), mesh_.vertexAt(v[2], ray.time),
+                                 rays_.lambdaMin(), end, hit);
     }
 
     // VisibilityRecord::nearerThan.
