@@ -24,7 +24,7 @@ mkdir -p "$corpus/scene_reader" "$corpus/obj_reader" "$corpus/hardware_config"
 cp scenes/*.json "$corpus/scene_reader/"
 cp pipeline/hw/*.json "$corpus/hardware_config/"
 cp scenes/cages/*.obj "$corpus/obj_reader/"
-if [ -d ../shared/models/opensubdiv ]; then cp ../shared/models/opensubdiv/*.obj "$corpus/obj_reader/"; fi
+cp tests/data/opensubdiv/*.obj "$corpus/obj_reader/"
 for name in scene_reader obj_reader hardware_config; do
   echo "fuzzing $name for ${seconds}s"
   ASAN_OPTIONS=detect_leaks=1 "build-fuzz/fuzz/fuzz_$name" -max_total_time="$seconds" -print_final_stats=1 \

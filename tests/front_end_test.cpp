@@ -193,9 +193,7 @@ ExportedMesh exportAndRead(const FrontEnd& fe) {
 // points, bit for bit, so the exported mesh welded by exact position has exactly the cage's
 // boundary loops (a crack or T-junction would add a loop).
 TEST(FrontEnd, WatertightOnEveryCageUnderEveryPartitioning) {
-    std::vector<std::string> files = test::sharedModelFiles();
-    ASSERT_FALSE(files.empty()) << "the shared OpenSubdiv cages are missing: "
-                                << test::sharedModelsDir();
+    std::vector<std::string> files = test::regressionCageFiles();
     for (const char* own :
          {"catmark_val2_interior.obj", "loop_val2_interior.obj", "catmark_nonman_quadpole8.obj"})
         files.push_back(test::sourcePath(std::string("scenes/cages/") + own));

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <filesystem>
+#include <stdexcept>
 
 namespace patchsim::test {
 
@@ -13,8 +14,8 @@ std::string sourcePath(const std::string& relative) {
     return (fs::path(PATCHSIM_SOURCE_DIR) / relative).string();
 }
 
-std::string sharedModelsDir() {
-    return PATCHSIM_SHARED_MODELS_DIR;
+std::string regressionCagesDir() {
+    return sourcePath("tests/data/opensubdiv");
 }
 
 static std::vector<std::string> filesWithExtension(const std::string& dir, const std::string& ext) {
@@ -26,8 +27,15 @@ static std::vector<std::string> filesWithExtension(const std::string& dir, const
     return files;
 }
 
-std::vector<std::string> sharedModelFiles() {
-    return filesWithExtension(sharedModelsDir(), ".obj");
+std::vector<std::string> regressionCageFiles() {
+    // The 41 shapes copied into the repository (tests/data/opensubdiv/README.md).
+    constexpr std::size_t kShipped = 41;
+    std::vector<std::string> files = filesWithExtension(regressionCagesDir(), ".obj");
+    if (files.size() < kShipped)
+        throw std::runtime_error("the regression cages are missing: " + regressionCagesDir() +
+                                 " holds " + std::to_string(files.size()) + " .obj files, not " +
+                                 std::to_string(kShipped));
+    return files;
 }
 std::vector<std::string> sceneFiles() {
     return filesWithExtension(sourcePath("scenes"), ".json");
