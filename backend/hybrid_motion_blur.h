@@ -1,5 +1,6 @@
 #pragma once
-// Hybrid motion blur (Tan, Cui, Bhojan 2022, ../shared/seeds/tan2022-hybrid-mblur.md): the
+// Hybrid motion blur (Tan, Cui, Bhojan 2022, "Hybrid MBlur: a systematic approach to augment
+// rasterization with ray tracing for rendering motion blur in games"): the
 // post-process of motion_blur_postprocess, plus rays that reveal the background the sharp frame
 // hides behind moving objects: the `hybrid` visibility method.
 //

@@ -9,9 +9,23 @@ namespace patchsim {
 
 namespace {
 
+void checkFinite(const Image& image, const char* which) {
+    for (std::size_t i = 0; i < image.rgb.size(); ++i) {
+        if (std::isfinite(image.rgb[i])) continue;
+        const std::size_t pixel = i / 3, w = std::size_t(std::max(image.width, 1));
+        throw std::domain_error(std::string("image metrics: the ") + which +
+                                " has a non-finite value at pixel (" + std::to_string(pixel % w) +
+                                ", " + std::to_string(pixel / w) + ")");
+    }
+}
+
+// Same size, and every value finite: a NaN would otherwise slip through the clamps and comparisons
+// and read as a perfect score (an infinite PSNR).
 void checkSizes(const Image& a, const Image& b) {
     if (a.width != b.width || a.height != b.height)
         throw std::invalid_argument("image metrics: images of different sizes");
+    checkFinite(a, "image");
+    checkFinite(b, "reference");
 }
 
 double meanSquaredError(const Image& a, const Image& b) {
@@ -87,6 +101,10 @@ double ssim(const Image& image, const Image& reference) {
 
 double meanAbsoluteDifference(std::span<const float> a, std::span<const float> b) {
     if (a.size() != b.size()) throw std::invalid_argument("image metrics: AOVs of different sizes");
+    for (std::size_t i = 0; i < a.size(); ++i)
+        if (!std::isfinite(a[i]) || !std::isfinite(b[i]))
+            throw std::domain_error("image metrics: an AOV has a non-finite value at " +
+                                    std::to_string(i));
     double sum = 0;
     for (std::size_t i = 0; i < a.size(); ++i) sum += std::abs(double(a[i]) - b[i]);
     return a.empty() ? 0.0 : sum / double(a.size());

@@ -10,6 +10,8 @@
 //   window are compared as one window.
 // - Coverage error: the mean absolute difference of the coverage AOV (fraction of a pixel's
 //   samples that hit something).
+// Every metric throws std::domain_error when either image holds a NaN or an infinity: an error
+// metric of a broken image is an error, never a number (a NaN would read as an infinite PSNR).
 
 #include <span>
 #include <vector>

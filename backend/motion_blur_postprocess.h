@@ -1,7 +1,7 @@
 #pragma once
 // Post-process motion blur (McGuire, Hennessy, Bukowski, Osman 2012, "A reconstruction filter for
 // plausible motion blur"), with the sample weights as restated in the appendix of Tan et al. 2022
-// (../shared/seeds/tan2022-hybrid-mblur.md): the `postprocess` visibility method.
+// ("Hybrid MBlur", Tan, Cui, Bhojan 2022): the `postprocess` visibility method.
 //
 // Input is one sharp frame rendered with a pinhole at mid-shutter: its colour, depth, and each
 // pixel's screen motion over the exposure (the resolve's motion AOV). A pixel's velocity V is

@@ -4,7 +4,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <random>
+#include <stdexcept>
 #include <vector>
 
 namespace patchsim {
@@ -78,6 +80,32 @@ TEST(ImageMetrics, SsimFallsWithNoise) {
 TEST(ImageMetrics, CoverageErrorIsTheMeanAbsoluteDifference) {
     const std::vector<float> a{0, 0.5f, 1, 1}, b{0, 1, 0.75f, 1};
     EXPECT_DOUBLE_EQ(meanAbsoluteDifference(a, b), 0.1875);
+}
+
+// A NaN slips through clamps and comparisons (its PSNR read as infinite, "perfect"): every metric
+// refuses a non-finite image instead of returning a number.
+TEST(ImageMetrics, NonFiniteImagesAreAnErrorNotAScore) {
+    const Image base = noise(16, 12, 2);
+    for (float bad :
+         {std::numeric_limits<float>::quiet_NaN(), -std::numeric_limits<float>::quiet_NaN(),
+          std::numeric_limits<float>::infinity()}) {
+        Image broken = base;
+        broken.rgb[3 * (5 * 16 + 7) + 1] = bad;
+        EXPECT_THROW(rmse(broken, base), std::domain_error);
+        EXPECT_THROW(psnr(broken, base), std::domain_error);
+        EXPECT_THROW(psnr(base, broken), std::domain_error);
+        EXPECT_THROW(ssim(broken, base), std::domain_error);
+        try {
+            psnr(broken, base);
+        } catch (const std::domain_error& e) {
+            EXPECT_NE(std::string(e.what()).find("non-finite value at pixel (7, 5)"),
+                      std::string::npos)
+                << e.what();
+        }
+        const std::vector<float> coverage{0, bad}, fine{0, 1};
+        EXPECT_THROW(meanAbsoluteDifference(coverage, fine), std::domain_error);
+    }
+    EXPECT_TRUE(std::isinf(psnr(base, base)));  // identical images: infinite, as defined
 }
 
 }  // namespace

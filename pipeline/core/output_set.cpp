@@ -2,6 +2,9 @@
 
 #include <unistd.h>
 
+#include <atomic>
+#include <csignal>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 
@@ -11,7 +14,43 @@ namespace patchsim {
 
 namespace fs = std::filesystem;
 
+// One path to remove if the process is interrupted. Nodes are pushed onto a lock-free list and
+// never freed, so the signal handler can walk it at any moment; `live` turns false once the path
+// is committed or cleaned up normally.
+struct CleanupNode {
+    char* path = nullptr;
+    bool folder = false;
+    std::atomic<bool> live{true};
+    CleanupNode* next = nullptr;
+};
+
 namespace {
+
+std::atomic<CleanupNode*> cleanupList{nullptr};
+
+CleanupNode* registerCleanup(const std::string& path, bool folder) {
+    auto* node = new CleanupNode;
+    node->path = ::strdup(path.c_str());
+    node->folder = folder;
+    node->next = cleanupList.load();
+    while (!cleanupList.compare_exchange_weak(node->next, node)) {
+    }
+    return node;
+}
+
+void retire(CleanupNode* node) {
+    if (node) node->live.store(false);
+}
+
+// Newest first: files, then folders (inner folders were made after their parents).
+extern "C" void cleanUpAndReraise(int signal) {
+    for (CleanupNode* n = cleanupList.load(); n; n = n->next)
+        if (n->live.load() && !n->folder) ::unlink(n->path);
+    for (CleanupNode* n = cleanupList.load(); n; n = n->next)
+        if (n->live.load() && n->folder) ::rmdir(n->path);
+    std::signal(signal, SIG_DFL);
+    std::raise(signal);
+}
 
 std::string quoted(const fs::path& p) {
     return "'" + p.string() + "'";
@@ -26,17 +65,36 @@ fs::path existingAncestor(fs::path p) {
 
 }  // namespace
 
+void installInterruptCleanup() {
+    static const bool installed = [] {
+        for (int signal : {SIGINT, SIGTERM, SIGHUP}) std::signal(signal, cleanUpAndReraise);
+        return true;
+    }();
+    (void)installed;
+}
+
+std::string joinOutputPath(const std::string& dir, const std::string& name) {
+    if (dir.empty()) throw InputError(dir, "", "empty folder name");
+    return (fs::path(dir) / name).string();
+}
+
 OutputSet::~OutputSet() {
     if (committed_) return;
     std::error_code ec;
-    for (const Entry& e : files_) fs::remove(e.temporary, ec);
-    for (auto it = createdFolders_.rbegin(); it != createdFolders_.rend(); ++it)
-        fs::remove(*it, ec);  // only if empty
+    for (const Entry& e : files_) {
+        fs::remove(e.temporary, ec);
+        retire(e.cleanup);
+    }
+    for (auto it = createdFolders_.rbegin(); it != createdFolders_.rend(); ++it) {
+        fs::remove(it->first, ec);  // only if empty
+        retire(it->second);
+    }
 }
 
 void OutputSet::folder(const std::string& path, const std::string& field) {
     std::error_code ec;
-    const fs::path dir(path.empty() ? "." : path);
+    if (path.empty()) throw InputError(path, field, "empty folder name");
+    const fs::path dir(path);
     if (fs::exists(dir, ec)) {
         if (!fs::is_directory(dir, ec))
             throw InputError(path, field, "is a file, not a folder for the outputs");
@@ -51,7 +109,7 @@ void OutputSet::folder(const std::string& path, const std::string& field) {
         for (const fs::path& p : missing) {
             if (!fs::create_directory(p, ec) && ec)
                 throw InputError(path, field, "cannot make the folder: " + ec.message());
-            createdFolders_.push_back(p.string());
+            createdFolders_.emplace_back(p.string(), registerCleanup(p.string(), true));
         }
     }
     if (::access(dir.c_str(), W_OK) != 0)
@@ -77,7 +135,7 @@ std::string OutputSet::file(const std::string& path, const std::string& field) {
     name.insert(0, 1, '.');
     name.append(".tmp-patchsim-").append(std::to_string(::getpid())).append(p.extension().string());
     const fs::path temporary = dir / name;
-    files_.push_back({path, temporary.string()});
+    files_.push_back({path, temporary.string(), registerCleanup(temporary.string(), false)});
     return temporary.string();
 }
 
@@ -98,7 +156,9 @@ void OutputSet::commit() {
         if (ec)
             throw InputError(e.path, "",
                              "cannot move the finished file into place: " + ec.message());
+        retire(e.cleanup);
     }
+    for (const auto& [folder, node] : createdFolders_) retire(node);
     committed_ = true;
 }
 

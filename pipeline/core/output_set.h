@@ -9,7 +9,12 @@
 // be a folder (created if missing), a file's name must not be a folder, and the folder must be
 // writable; each problem is an InputError naming the path and the option it came from. `commit`
 // renames every temporary into place; a set destroyed without committing (the command failed)
-// removes its temporaries and the folders it created, so a failure leaves nothing behind.
+// removes its temporaries and the folders it created, so a failure leaves nothing behind. An
+// empty path is refused, never taken for the current folder.
+//
+// Interrupts: every temporary and created folder is also listed in a process-wide cleanup list
+// that a SIGINT, SIGTERM or SIGHUP handler (installInterruptCleanup) walks with unlink and rmdir
+// only, the calls a signal handler may make, before the signal ends the process as it would have.
 
 #include <functional>
 #include <ostream>
@@ -17,6 +22,8 @@
 #include <vector>
 
 namespace patchsim {
+
+struct CleanupNode;  // an entry of the interrupt cleanup list (output_set.cpp)
 
 class OutputSet {
   public:
@@ -38,11 +45,19 @@ class OutputSet {
   private:
     struct Entry {
         std::string path, temporary;
+        CleanupNode* cleanup;
     };
     std::vector<Entry> files_;
-    std::vector<std::string> createdFolders_;  // outermost first
+    std::vector<std::pair<std::string, CleanupNode*>> createdFolders_;  // outermost first
     bool committed_ = false;
 };
+
+// `name` inside the output folder `dir` (which must not be empty: "" is refused, not taken as /).
+std::string joinOutputPath(const std::string& dir, const std::string& name);
+
+// Installs the handlers that remove every live temporary and created folder when the process is
+// interrupted. Idempotent; call once at start-up.
+void installInterruptCleanup();
 
 // Writes one file through an OutputSet of its own.
 void writeFileAtomically(const std::string& path, const std::function<void(std::ostream&)>& write,

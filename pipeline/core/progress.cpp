@@ -30,6 +30,13 @@ void Progress::describe(std::string detail) {
     if (style_ == Style::Bar) draw(false);
 }
 
+void Progress::clear() {
+    std::lock_guard lock(mutex_);
+    if (style_ != Style::Bar) return;
+    std::fputs("\r\033[K", stderr);
+    std::fflush(stderr);
+}
+
 void Progress::finish() {
     if (share_) share_->finish(done_.load());
 }

@@ -34,6 +34,9 @@ class Progress {
     void advance(std::int64_t units = 1);
     // What is being worked on now (e.g. the run of a sweep), shown after the bar.
     void describe(std::string detail);
+    // Clears the bar from the terminal so a message can take its line; the next advance or
+    // describe draws it again below the message.
+    void clear();
     // Collective when shared: after this process's last unit, waits for the others' last ones.
     void finish();
     static bool terminalAttached();

@@ -86,6 +86,10 @@ std::string integerIn(const Json& j, int lo, int hi, int& out) {
     return {};
 }
 
+std::string booleanText(bool b) {
+    return b ? "true" : "false";
+}
+
 std::string boolean(const Json& j, bool& out) {
     if (!j.is_boolean()) return "expected true or false, found " + describe(j);
     out = j.get<bool>();
@@ -94,43 +98,53 @@ std::string boolean(const Json& j, bool& out) {
 
 const std::vector<RasterizerOptionField> kFields = {
     {"tile_size", "--tile-size", "Tile side in pixels (1..256)",
-     [](RasterizerOptions& o, const Json& j) { return integerIn(j, 1, 256, o.tileSize); }},
+     [](RasterizerOptions& o, const Json& j) { return integerIn(j, 1, 256, o.tileSize); },
+     [](const RasterizerOptions& o) { return std::to_string(o.tileSize); }},
     {"leaf_size", "--leaf-size", "Triangles per hierarchy leaf (1..64)",
      [](RasterizerOptions& o, const Json& j) {
          return integerIn(j, 1, kMaxLeafTriangles, o.leafSize);
-     }},
+     },
+     [](const RasterizerOptions& o) { return std::to_string(o.leafSize); }},
     {"bounds_level", "--bounds-level",
      "Hierarchy level whose boxes give the screen bounds (0 = root .. 6)",
-     [](RasterizerOptions& o, const Json& j) { return integerIn(j, 0, 6, o.boundsLevel); }},
+     [](RasterizerOptions& o, const Json& j) { return integerIn(j, 0, 6, o.boundsLevel); },
+     [](const RasterizerOptions& o) { return std::to_string(o.boundsLevel); }},
     {"branch_method", "--branch-method", "Where rays start: root, first-split or bitmask",
      [](RasterizerOptions& o, const Json& j) -> std::string {
          if (j.is_string() && parseBranchMethod(j.get<std::string>(), o.branchMethod)) return {};
          return "unknown branch method " + describe(j) + " (root, first-split, bitmask)";
-     }},
+     },
+     [](const RasterizerOptions& o) { return std::string(branchMethodName(o.branchMethod)); }},
     {"bounds_space", "--bounds-space",
      "Bounds of the tile tests: 3d (camera space), 2dh (homogeneous) or 2d (screen space)",
      [](RasterizerOptions& o, const Json& j) -> std::string {
          if (j.is_string() && parseBoundsSpace(j.get<std::string>(), o.boundsSpace)) return {};
          return "unknown bounds space " + describe(j) + " (" + namesIn(kBoundsSpaces) + ")";
-     }},
+     },
+     [](const RasterizerOptions& o) { return std::string(boundsSpaceName(o.boundsSpace)); }},
     {"time_refinement", "--time-refinement",
      "Narrow each tile's time interval at the leaves (true/false)",
-     [](RasterizerOptions& o, const Json& j) { return boolean(j, o.timeRefinement); }},
+     [](RasterizerOptions& o, const Json& j) { return boolean(j, o.timeRefinement); },
+     [](const RasterizerOptions& o) { return booleanText(o.timeRefinement); }},
     {"interior_time_refinement", "--interior-time-refinement",
      "With time refinement, narrow the time interval at interior nodes too (true/false)",
-     [](RasterizerOptions& o, const Json& j) { return boolean(j, o.interiorTimeRefinement); }},
+     [](RasterizerOptions& o, const Json& j) { return boolean(j, o.interiorTimeRefinement); },
+     [](const RasterizerOptions& o) { return booleanText(o.interiorTimeRefinement); }},
     {"z_culling", "--z-culling", "Cull against the z-buffer (true/false)",
-     [](RasterizerOptions& o, const Json& j) { return boolean(j, o.zCulling); }},
+     [](RasterizerOptions& o, const Json& j) { return boolean(j, o.zCulling); },
+     [](const RasterizerOptions& o) { return booleanText(o.zCulling); }},
     {"max_triangles_per_group", "--max-triangles-per-group",
      "Split larger patches into groups of at most this many triangles (0: 64 leaves' worth)",
      [](RasterizerOptions& o, const Json& j) {
          return integerIn(j, 0, 64 * 64, o.maxTrianglesPerGroup);
-     }},
+     },
+     [](const RasterizerOptions& o) { return std::to_string(o.maxTrianglesPerGroup); }},
     {"merge_triangles_below", "--merge-triangles-below",
      "Merge neighbouring patches of at most this many triangles into one hierarchy (0: never)",
      [](RasterizerOptions& o, const Json& j) {
          return integerIn(j, 0, 64 * 64, o.mergeTrianglesBelow);
-     }},
+     },
+     [](const RasterizerOptions& o) { return std::to_string(o.mergeTrianglesBelow); }},
 };
 
 }  // namespace

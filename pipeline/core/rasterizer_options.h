@@ -5,8 +5,9 @@
 // --------------
 // One plain struct, and one table of its fields: each field's JSON key (in a scene's "rasterizer"
 // object and in an explore grid), its command-line flag, its help text and the one function that
-// checks and sets it from a JSON value. The scene reader, the command line and the explore grid
-// all go through the table, so a value is accepted or refused by the same rule everywhere.
+// checks and sets it from a JSON value, and the one that reads it back. The scene reader, the
+// command line and the explore grid all go through the table, so a value is accepted or refused by
+// the same rule everywhere.
 
 #include <cstdint>
 #include <nlohmann/json_fwd.hpp>
@@ -66,6 +67,8 @@ struct RasterizerOptionField {
     const char* help;
     // Checks `value` and sets the field; returns an error message, empty when accepted.
     std::string (*set)(RasterizerOptions& options, const nlohmann::json& value);
+    // The field's value as the text `set` accepts (stats.json records it).
+    std::string (*get)(const RasterizerOptions& options);
 };
 const std::vector<RasterizerOptionField>& rasterizerOptionFields();
 const RasterizerOptionField* findRasterizerOptionField(const std::string& key);

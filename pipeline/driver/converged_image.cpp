@@ -1,9 +1,11 @@
 #include "pipeline/driver/converged_image.h"
 
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+#include <stdexcept>
 
 #include "pipeline/core/output_set.h"
 #include "pipeline/core/samples.h"
@@ -12,8 +14,6 @@
 namespace patchsim {
 
 namespace {
-
-constexpr int kSamplesPerPass = 64;
 
 std::string text(const Vec3& v) {
     char buffer[96];
@@ -47,7 +47,7 @@ std::uint64_t contentHash(const std::string& s) {
 std::string convergedKey(const SceneDesc& scene, int spp, const RenderOptions& options) {
     std::ostringstream out;
     out << "patchsim converged image, image version " << kImageVersion << "\n"
-        << "method patch, " << spp << " spp in passes of " << kSamplesPerPass << "\n"
+        << "method patch, " << spp << " spp in passes of " << kConvergedSamplesPerPass << "\n"
         << "filter " << resolveFilterName(options.resolve.filter) << " "
         << text(options.resolve.gaussianSigma) << " " << text(options.resolve.gaussianRadius)
         << ", shading " << shadingRateName(options.resolve.shadingRate) << ", layers "
@@ -88,25 +88,27 @@ std::string convergedKey(const SceneDesc& scene, int spp, const RenderOptions& o
     return out.str();
 }
 
-ConvergedImage convergedImage(const SceneDesc& scene, int spp, const RenderOptions& options,
-                              const std::string& cacheDir) {
-    namespace fs = std::filesystem;
-    const std::string key = convergedKey(scene, spp, options);
-    char name[17];
-    std::snprintf(name, sizeof name, "%016llx", static_cast<unsigned long long>(contentHash(key)));
-    const std::string base = cacheDir + "/" + name;
+namespace {
+
+// RGB then coverage, as the EXR stores them: what the `.key` file's pixel line hashes.
+std::uint64_t pixelHash(const ConvergedImage& image) {
+    std::string bytes(reinterpret_cast<const char*>(image.color.rgb.data()),
+                      image.color.rgb.size() * sizeof(float));
+    bytes.append(reinterpret_cast<const char*>(image.coverage.data()),
+                 image.coverage.size() * sizeof(float));
+    return contentHash(bytes);
+}
+
+std::string pixelLine(std::uint64_t hash) {
+    char line[40];
+    std::snprintf(line, sizeof line, "pixels %016llx\n", static_cast<unsigned long long>(hash));
+    return line;
+}
+
+// Passes of at most kConvergedSamplesPerPass samples, each with its own seed; their average.
+ConvergedImage renderConverged(const SceneDesc& scene, int spp, const RenderOptions& options) {
     ConvergedImage result;
-    result.path = base + ".exr";
-    std::error_code ec;
-    if (fs::exists(base + ".key", ec) && fs::exists(result.path, ec) &&
-        readTextFile(base + ".key") == key) {
-        result.color = readImage(result.path);
-        result.coverage = readChannel(result.path, "coverage");
-        result.fromCache = true;
-        return result;
-    }
-    // Passes of at most 64 samples, each with its own seed; their average.
-    const int passes = (spp + kSamplesPerPass - 1) / kSamplesPerPass;
+    const int passes = (spp + kConvergedSamplesPerPass - 1) / kConvergedSamplesPerPass;
     RenderOptions passOptions = options;
     passOptions.method = VisibilityMethod::Patch;
     passOptions.heatMaps = false;
@@ -125,19 +127,78 @@ ConvergedImage convergedImage(const SceneDesc& scene, int spp, const RenderOptio
         for (std::size_t i = 0; i < result.coverage.size(); ++i)
             result.coverage[i] += weight * r.frame.coverage[i];
     }
+    return result;
+}
+
+void storeConverged(const ConvergedImage& image, const std::string& base, const std::string& key,
+                    const std::string& cacheDir) {
     OutputSet outputs;
     outputs.folder(cacheDir, "--converged-cache");
-    const std::size_t pixels = result.coverage.size();
+    const std::size_t pixels = image.coverage.size();
     std::vector<float> channels(pixels * 4);
     for (std::size_t p = 0; p < pixels; ++p) {
-        for (std::size_t k = 0; k < 3; ++k) channels[4 * p + k] = result.color.rgb[3 * p + k];
-        channels[4 * p + 3] = result.coverage[p];
+        for (std::size_t k = 0; k < 3; ++k) channels[4 * p + k] = image.color.rgb[3 * p + k];
+        channels[4 * p + 3] = image.coverage[p];
     }
-    writeFloatChannels(outputs.file(result.path, "--converged-cache"), result.color.width,
-                       result.color.height, {"R", "G", "B", "coverage"}, channels);
-    writePng(result.color, outputs.file(base + ".png", "--converged-cache"));
-    outputs.writeText(base + ".key", "--converged-cache", [&](std::ostream& out) { out << key; });
+    writeFloatChannels(outputs.file(image.path, "--converged-cache"), image.color.width,
+                       image.color.height, {"R", "G", "B", "coverage"}, channels);
+    writePng(image.color, outputs.file(base + ".png", "--converged-cache"));
+    outputs.writeText(base + ".key", "--converged-cache",
+                      [&](std::ostream& out) { out << key << pixelLine(pixelHash(image)); });
     outputs.commit();
+}
+
+// The cached image when the cache holds a whole, matching one; else why not (in `note`).
+bool readCached(const std::string& base, const std::string& key, const FilmDesc& film,
+                ConvergedImage& result) {
+    namespace fs = std::filesystem;
+    std::error_code ec;
+    if (!fs::exists(base + ".key", ec) || !fs::exists(result.path, ec)) return false;
+    const std::string recorded = readTextFile(base + ".key");
+    if (recorded.compare(0, key.size(), key) != 0) return false;  // another image's key
+    try {
+        const std::vector<std::string> channels = readChannelNames(result.path);
+        for (const char* name : {"R", "G", "B", "coverage"})
+            if (std::find(channels.begin(), channels.end(), name) == channels.end())
+                throw std::runtime_error(std::string("no channel ") + name);
+        result.color = readImage(result.path);
+        result.coverage = readChannel(result.path, "coverage");
+    } catch (const std::exception& e) {
+        result.note = std::string("the cached image did not read back: ") + e.what();
+        return false;
+    }
+    if (result.color.width != film.width || result.color.height != film.height) {
+        result.note = "the cached image is " + std::to_string(result.color.width) + "x" +
+                      std::to_string(result.color.height) + ", not " + std::to_string(film.width) +
+                      "x" + std::to_string(film.height);
+        return false;
+    }
+    if (recorded.substr(key.size()) != pixelLine(pixelHash(result))) {
+        result.note = "the cached image's pixels do not match their recorded hash";
+        return false;
+    }
+    return true;
+}
+
+}  // namespace
+
+ConvergedImage convergedImage(const SceneDesc& scene, int spp, const RenderOptions& options,
+                              const std::string& cacheDir) {
+    const std::string key = convergedKey(scene, spp, options);
+    char name[17];
+    std::snprintf(name, sizeof name, "%016llx", static_cast<unsigned long long>(contentHash(key)));
+    const std::string base = joinOutputPath(cacheDir, name);
+    ConvergedImage result;
+    result.path = base + ".exr";
+    if (readCached(base, key, scene.film, result)) {
+        result.fromCache = true;
+        return result;
+    }
+    const std::string note = result.note;
+    result = renderConverged(scene, spp, options);
+    result.path = base + ".exr";
+    result.note = note;
+    storeConverged(result, base, key, cacheDir);
     return result;
 }
 

@@ -9,8 +9,11 @@
 // The cache key is a text naming everything that changes the image: patchsim's image version,
 // every field of the scene description, the text of each cage it reads, the converged sample
 // count and the method's options. Files are `<dir>/<hash>.exr` (RGB and coverage), `.png` and
-// `.key` (the key text): a cached image is reused only when its key text equals the wanted one,
-// byte for byte, so a stale image (another scene, an edited cage, another patchsim) never is.
+// `.key` (the key text, then a line with a hash of the EXR's pixels): a cached image is reused
+// only when its key text equals the wanted one byte for byte (so a stale image of another scene,
+// an edited cage or another patchsim never is), and when the EXR reads back whole, at the film's
+// size, with its four channels, and its pixels hash to the recorded value. Anything else (a
+// truncated or edited file, one of another size) is rendered again and the reason noted.
 
 #include <string>
 
@@ -22,11 +25,15 @@ namespace patchsim {
 // Changes whenever a change to patchsim changes rendered images.
 inline constexpr int kImageVersion = 1;
 
+// The converged image is rendered in passes of at most this many samples per pixel.
+inline constexpr int kConvergedSamplesPerPass = 64;
+
 struct ConvergedImage {
     Image color;
     std::vector<float> coverage;
     bool fromCache = false;
     std::string path;  // the cached EXR
+    std::string note;  // why a cached image was not reused, when one was there
 };
 
 // Every image-relevant setting, as text.

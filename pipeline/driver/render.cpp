@@ -319,6 +319,11 @@ RenderResult renderScene(const SceneDesc& scene, const RenderOptions& options) {
     scene.rasterizer.validateTileSamples(scene.film.samplesPerPixel, scene.path);
     if (options.maxLayers < 1 || options.maxLayers > 255)
         throw InputError("command line", "--max-layers", "must be in [1, 255]");
+    if (options.heatMaps && !usesPatchRasterizer(options.method))
+        throw InputError("command line", "--heatmaps",
+                         std::string("the ") + visibilityMethodName(options.method) +
+                             " method does not count its work per pixel; heat maps come from "
+                             "the patch rasterizer (patch, postprocess, hybrid, reprojection)");
     RenderResult result;
     const int workers = resolveThreadCount(options.threads);
     checkFrameMemory(scene, options, scene.path);

@@ -50,6 +50,7 @@ void writeStatsJson(std::ostream& out, const StatsContext& context,
     json["command"] = context.command;
     json["scene"] = context.scene;
     for (const auto& [key, value] : context.facts) json["facts"][key] = value;
+    for (const auto& [key, value] : context.options) json["options"][key] = value;
     nlohmann::ordered_json counters = nlohmann::ordered_json::object();
     for (const auto& [name, value] : values) {
         const auto it = infos.find(name);

@@ -16,7 +16,9 @@ struct StatsContext {
     std::string command;                                     // "tessellate", "info", ...
     std::string scene;                                       // scene path
     std::vector<std::pair<std::string, std::string>> facts;  // extra key/value lines
-    const TimingReport* timing = nullptr;                    // cycle report, when modelled
+    // The options the job ran with (job_options.h, rasterizer_options.h), by their stats key.
+    std::vector<std::pair<std::string, std::string>> options;
+    const TimingReport* timing = nullptr;  // cycle report, when modelled
 };
 
 void printCounterTable(std::ostream& out, const CounterValues& values);

@@ -6,9 +6,11 @@
 #include <cstdlib>
 #include <filesystem>
 #include <ostream>
+#include <set>
 
 #include "backend/image_metrics.h"
 #include "pipeline/core/counters.h"
+#include "pipeline/core/error.h"
 #include "pipeline/core/output_set.h"
 #include "pipeline/core/progress.h"
 #include "pipeline/core/text_file.h"
@@ -47,7 +49,6 @@ SweepRow measureRun(const SweepScene& s, VisibilityMethod method, int spp,
                     const ConvergedImage& converged, const SweepOptions& o, Image& picture) {
     SceneDesc scene = s.scene;
     scene.film.samplesPerPixel = spp;
-    checkMemoryBudget(scene.film, o.limits, s.label, "--spp");
     RenderOptions options = o.render;
     options.method = method;
     options.progress = false;
@@ -91,6 +92,47 @@ SceneDesc scaleBlur(const SceneDesc& scene, float k) {
     return s;
 }
 
+std::string sweepSceneLabel(const std::string& path, float blur,
+                            const std::vector<std::string>& paths) {
+    namespace fs = std::filesystem;
+    const auto components = [](const std::string& p) {
+        std::vector<std::string> parts;
+        fs::path normal = fs::path(p).lexically_normal();
+        normal.replace_extension();
+        for (const fs::path& part : normal)
+            if (!part.empty() && part != "." && part != "/") parts.push_back(part.string());
+        return parts;
+    };
+    // The last `k` components of a path (the built-in scene: "default").
+    const auto tail = [&](const std::string& p, std::size_t k) {
+        if (p.empty()) return std::string("default");
+        const std::vector<std::string> parts = components(p);
+        std::string label;
+        for (std::size_t i = parts.size() - std::min(k, parts.size()); i < parts.size(); ++i)
+            label += (label.empty() ? "" : "-") + parts[i];
+        return label;
+    };
+    const auto same = [&](const std::string& other) {
+        return fs::path(other).lexically_normal() == fs::path(path).lexically_normal();
+    };
+    if (std::count_if(paths.begin(), paths.end(), same) > 1)
+        throw InputError("command line", "scenes", "names '" + path + "' twice");
+    std::size_t k = 1;
+    const auto collides = [&] {
+        for (const std::string& other : paths)
+            if (!same(other) && tail(other, k) == tail(path, k)) return true;
+        return false;
+    };
+    while (collides() && k < components(path).size()) ++k;
+    std::string label = tail(path, k);
+    if (blur != 1.0f) {
+        char suffix[32];
+        std::snprintf(suffix, sizeof suffix, "-blur%.9g", double(blur));
+        label += suffix;
+    }
+    return label;
+}
+
 std::string sweepCsvHeader() {
     return "scene,method,spp,wall_seconds,modelled_cycles,samples_tested,rays,visibility_samples,"
            "sample_test_efficiency,shading_invocations,rmse,psnr,ssim,coverage_error";
@@ -106,55 +148,49 @@ std::string sweepCsvRow(const SweepRow& r) {
            number(r.coverageError);
 }
 
-std::vector<SweepRow> runSweep(const std::vector<SweepScene>& scenes, const SweepOptions& o,
-                               std::ostream& log) {
-    const std::string dir = o.outputDir;
-    OutputSet outputs;
-    outputs.folder(dir, "-o");
-    outputs.folder(dir + "/images", "-o");
-    outputs.file(dir + "/results.csv", "-o");
-    const int maxSpp = *std::max_element(o.samplesPerPixel.begin(), o.samplesPerPixel.end());
-    const int convergedSpp =
-        o.convergedSamplesPerPixel > 0 ? o.convergedSamplesPerPixel : 16 * maxSpp;
-    std::vector<SweepRow> rows;
-    Progress progress("sweep     ",
-                      std::int64_t(scenes.size() * o.methods.size() * o.samplesPerPixel.size()), 1,
-                      o.progress, "runs");
+namespace {
+
+// Every run's film and the rasterizer's scratch against the memory budget, before the first run:
+// a run over budget must not be found after hours of earlier runs.
+void checkEveryRun(const std::vector<SweepScene>& scenes, const SweepOptions& o, int convergedSpp) {
+    std::vector<int> spps = o.samplesPerPixel;
+    spps.push_back(std::min(convergedSpp, kConvergedSamplesPerPass));
     for (const SweepScene& s : scenes) {
-        progress.describe(s.label + ": converged image, " + std::to_string(convergedSpp) + " spp");
-        const ConvergedImage converged =
-            convergedImage(s.scene, convergedSpp, o.render, dir + "/converged");
-        log << s.label << ": converged image (" << convergedSpp << " spp, patch method) "
-            << (converged.fromCache ? "reused from " : "rendered into ") << converged.path << "\n";
-        writePng(converged.color,
-                 outputs.file(dir + "/images/" + s.label + "-converged.png", "-o"));
-        for (VisibilityMethod method : o.methods) {
-            for (int spp : o.samplesPerPixel) {
-                const std::string run =
-                    s.label + "-" + visibilityMethodName(method) + "-" + std::to_string(spp);
-                progress.describe(run);
-                Image picture;
-                rows.push_back(measureRun(s, method, spp, converged, o, picture));
-                writePng(picture, outputs.file(dir + "/images/" + run + ".png", "-o"));
-                progress.advance();
+        for (int spp : spps) {
+            SceneDesc scene = s.scene;
+            scene.film.samplesPerPixel = spp;
+            checkMemoryBudget(scene.film, o.limits, s.label, "--spp");
+            scene.rasterizer.validateTileSamples(spp, s.label);
+            RenderOptions options = o.render;
+            for (VisibilityMethod method : o.methods) {
+                options.method = method;
+                checkFrameMemory(scene, options, s.label);
             }
         }
     }
-    outputs.writeText(dir + "/results.csv", "-o", [&](std::ostream& out) {
-        out << sweepCsvHeader() << "\n";
-        for (const SweepRow& r : rows) out << sweepCsvRow(r) << "\n";
-    });
-    const auto script = builtinAsset("plot_sweep.py");
-    outputs.writeText(dir + "/plot_sweep.py", "-o", [&](std::ostream& out) { out << *script; });
-    outputs.commit();
-    log << "wrote " << dir << "/results.csv (" << rows.size() << " runs) and their images in "
-        << dir << "/images\n";
+}
+
+// The images/ folder belongs to the sweep: images an earlier sweep left there (other scenes,
+// methods or counts) would sit beside a CSV that does not list them.
+std::size_t removeStaleImages(const std::string& imagesDir, const std::set<std::string>& written) {
+    namespace fs = std::filesystem;
+    std::size_t removed = 0;
+    std::error_code ec;
+    for (const auto& entry : fs::directory_iterator(imagesDir, ec)) {
+        const fs::path& p = entry.path();
+        if (p.extension() != ".png" || written.count(p.filename().string())) continue;
+        if (entry.is_regular_file(ec) && fs::remove(p, ec)) ++removed;
+    }
+    return removed;
+}
+
+void drawPlots(const std::string& dir, std::ostream& log) {
     const std::string python = pythonWithMatplotlib();
     if (python.empty()) {
         log << "plots skipped: no Python with matplotlib and numpy (Debian: apt-get install "
                "python3-matplotlib); run `python3 "
             << dir << "/plot_sweep.py " << dir << "` once it is there\n";
-        return rows;
+        return;
     }
     const std::string command =
         python + " '" + dir + "/plot_sweep.py' '" + dir + "' > '" + dir + "/plots.log' 2>&1";
@@ -162,6 +198,74 @@ std::vector<SweepRow> runSweep(const std::vector<SweepScene>& scenes, const Swee
         log << "wrote the plots in " << dir << "/plots (see " << dir << "/plots.log)\n";
     else
         log << "plotting failed; see " << dir << "/plots.log\n";
+}
+
+}  // namespace
+
+std::vector<SweepRow> runSweep(const std::vector<SweepScene>& scenes, const SweepOptions& o,
+                               std::ostream& log) {
+    const std::string dir = o.outputDir;
+    const int maxSpp = *std::max_element(o.samplesPerPixel.begin(), o.samplesPerPixel.end());
+    const int convergedSpp =
+        o.convergedSamplesPerPixel > 0 ? o.convergedSamplesPerPixel : 16 * maxSpp;
+    checkEveryRun(scenes, o, convergedSpp);
+    OutputSet outputs;
+    outputs.folder(dir, "-o");
+    const std::string imagesDir = joinOutputPath(dir, "images");
+    outputs.folder(imagesDir, "-o");
+    outputs.file(joinOutputPath(dir, "results.csv"), "-o");
+    std::vector<SweepRow> rows;
+    std::set<std::string> images;
+    Progress progress("sweep     ",
+                      std::int64_t(scenes.size() * o.methods.size() * o.samplesPerPixel.size()), 1,
+                      o.progress, "runs");
+    const auto say = [&](const std::string& line) {
+        progress.clear();
+        log << line << "\n" << std::flush;
+    };
+    if (convergedSpp < maxSpp)
+        say("warning: --converged-spp " + std::to_string(convergedSpp) +
+            " is below the largest --spp " + std::to_string(maxSpp) +
+            ": the error of the runs above it measures the converged image's own noise");
+    const auto writeImage = [&](const Image& picture, const std::string& name) {
+        writePng(picture, outputs.file(joinOutputPath(imagesDir, name), "-o"));
+        images.insert(name);
+    };
+    for (const SweepScene& s : scenes) {
+        progress.describe(s.label + ": converged image, " + std::to_string(convergedSpp) + " spp");
+        const ConvergedImage converged =
+            convergedImage(s.scene, convergedSpp, o.render, joinOutputPath(dir, "converged"));
+        say(s.label + ": converged image (" + std::to_string(convergedSpp) +
+            " spp, patch method) " + (converged.fromCache ? "reused from " : "rendered into ") +
+            converged.path + (converged.note.empty() ? "" : " (" + converged.note + ")"));
+        writeImage(converged.color, s.label + "-converged.png");
+        for (VisibilityMethod method : o.methods) {
+            for (int spp : o.samplesPerPixel) {
+                const std::string run =
+                    s.label + "-" + visibilityMethodName(method) + "-" + std::to_string(spp);
+                progress.describe(run);
+                Image picture;
+                rows.push_back(measureRun(s, method, spp, converged, o, picture));
+                writeImage(picture, run + ".png");
+                progress.advance();
+            }
+        }
+    }
+    progress.clear();
+    outputs.writeText(joinOutputPath(dir, "results.csv"), "-o", [&](std::ostream& out) {
+        out << sweepCsvHeader() << "\n";
+        for (const SweepRow& r : rows) out << sweepCsvRow(r) << "\n";
+    });
+    const auto script = builtinAsset("plot_sweep.py");
+    outputs.writeText(joinOutputPath(dir, "plot_sweep.py"), "-o",
+                      [&](std::ostream& out) { out << *script; });
+    outputs.commit();
+    const std::size_t stale = removeStaleImages(imagesDir, images);
+    log << "wrote " << dir << "/results.csv (" << rows.size() << " runs) and their images in "
+        << imagesDir;
+    if (stale > 0) log << "; removed " << stale << " images of an earlier sweep";
+    log << "\n";
+    drawPlots(dir, log);
     return rows;
 }
 

@@ -27,6 +27,13 @@ struct SweepScene {
 // The scene with its motion (object and camera keyframe differences) and its aperture scaled.
 SceneDesc scaleBlur(const SceneDesc& scene, float scale);
 
+// A scene's label in file names and CSV rows: its file stem ("default" for the built-in scene,
+// path ""), with as many parent folders as it takes to tell it from the other paths of the sweep
+// ("a-motion", "b-motion"), and "-blur<scale>" when the blur is scaled. Throws InputError when
+// `paths` names one file twice.
+std::string sweepSceneLabel(const std::string& path, float blur,
+                            const std::vector<std::string>& paths);
+
 struct SweepOptions {
     std::vector<VisibilityMethod> methods;
     std::vector<int> samplesPerPixel;

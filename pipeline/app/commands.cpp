@@ -1,0 +1,414 @@
+#include "pipeline/app/commands.h"
+
+#include <algorithm>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <map>
+#include <nlohmann/json.hpp>
+
+#include "backend/heat_map.h"
+#include "backend/image.h"
+#include "pipeline/core/error.h"
+#include "pipeline/core/hardware_config.h"
+#include "pipeline/core/output_set.h"
+#include "pipeline/core/rasterizer_options.h"
+#include "pipeline/core/text_file.h"
+#include "pipeline/driver/explore.h"
+#include "pipeline/driver/render.h"
+#include "pipeline/driver/scene_info.h"
+#include "pipeline/driver/stats_report.h"
+#include "pipeline/driver/sweep.h"
+#include "pipeline/driver/tessellation_export.h"
+#include "rasterizer/tile_test_verifier.h"
+
+namespace patchsim {
+
+namespace {
+
+EffectOverrides overridesOf(const JobSettings& s) {
+    EffectOverrides o;
+    o.disableMotion = s.noMotion;
+    o.disableDefocus = s.noDefocus;
+    o.disableTransparency = s.noTransparency;
+    return o;
+}
+
+// The one scene of info, tessellate and render: the built-in one when none is named.
+SceneDesc loadScene(const JobSettings& s) {
+    if (s.scenes.empty()) return defaultScene(s.limits());
+    return readSceneOrCage(s.scenes.front(), s.limits());
+}
+
+HardwareConfig hardwareOf(const JobSettings& s) {
+    return s.hardware.empty() ? defaultHardwareConfig() : readHardwareConfig(s.hardware);
+}
+
+// Everything of a render that the options choose, other than the method (sweep sets its own).
+RenderOptions renderOptionsOf(const JobSettings& s) {
+    RenderOptions o;
+    parseVisibilityMethod(s.method, o.method);  // checked against the method table
+    o.overrides = overridesOf(s);
+    o.threads = s.threads;
+    o.memoryBudgetBytes = s.limits().memoryBudgetBytes;
+    o.maxLayers = s.maxLayers;
+    o.timeStrata = s.timeStrata;
+    o.postprocess.tileSize = s.ppTileSize;
+    o.postprocess.samples = s.ppSamples;
+    o.postprocess.softZExtent = s.softZExtent;
+    o.edgeThreshold = s.edgeThreshold;
+    o.reprojection.cameraSteps = s.cameraSteps;
+    o.tfragment.motionSamples = s.motionSamples;
+    o.tfragmentTimeSampled = s.timeSampled;
+    o.resolve.filter = s.filter == "gaussian" ? ResolveFilter::Gaussian : ResolveFilter::Box;
+    o.resolve.shadingRate = s.shadingRate == "per-pixel-primitive" ? ShadingRate::PerPixelPrimitive
+                                                                   : ShadingRate::PerFragment;
+    o.heatMaps = s.heatMaps;
+    o.progress = !s.noProgress;
+    return o;
+}
+
+// The options stats.json records: every row of this command that names a key, then the scene's
+// rasterizer options as rendered.
+std::vector<std::pair<std::string, std::string>> recordedOptions(Command command,
+                                                                 const JobSettings& s,
+                                                                 const RasterizerOptions* raster) {
+    std::vector<std::pair<std::string, std::string>> out;
+    for (const JobOption& o : jobOptions())
+        if (o.takes(command) && o.statsKey) out.emplace_back(o.statsKey, jobOptionValue(o, s));
+    if (raster)
+        for (const RasterizerOptionField& f : rasterizerOptionFields())
+            out.emplace_back(std::string("rasterizer.") + f.key, f.get(*raster));
+    return out;
+}
+
+void writeStats(OutputSet& outputs, const std::string& path, const std::string& field,
+                const StatsContext& context) {
+    const CounterValues values = CounterRegistry::instance().snapshot();
+    outputs.writeText(path, field,
+                      [&](std::ostream& out) { writeStatsJson(out, context, values); });
+}
+
+// The scene's rasterizer and film with the command line's options applied.
+void applyRenderOverrides(const JobSettings& s, SceneDesc& scene) {
+    RasterizerOptions& o = scene.rasterizer;
+    std::map<std::string, std::string> given = s.rasterizer;
+    if (s.noTimeRefinement) given["time_refinement"] = "false";
+    if (s.noZCulling) given["z_culling"] = "false";
+    for (const auto& [key, text] : given) {
+        const RasterizerOptionField& field = *findRasterizerOptionField(key);
+        const std::string error = field.set(o, optionValueFromText(text));
+        if (!error.empty()) throw InputError("command line", field.flag, error);
+    }
+    o.validate("command line");
+    if (s.spp > 0) scene.film.samplesPerPixel = s.spp;
+    if (s.width > 0) scene.film.width = s.width;
+    if (s.height > 0) scene.film.height = s.height;
+    const char* field = s.spp > 0 ? "--spp" : s.width > 0 ? "--width" : "--height";
+    if (s.spp > 0 || s.width > 0 || s.height > 0)
+        checkMemoryBudget(scene.film, s.limits(), "command line", field);
+}
+
+std::vector<std::pair<std::string, std::string>> renderFacts(
+    const SceneDesc& scene, const RenderOptions& options, const RenderResult& result,
+    const CounterValues& counters, double ste, const std::string& hardware) {
+    const RasterizerOptions& o = scene.rasterizer;
+    return {{"method", visibilityMethodName(options.method)},
+            {"mode", describeMode(result.effects)},
+            {"width", std::to_string(scene.film.width)},
+            {"height", std::to_string(scene.film.height)},
+            {"spp", std::to_string(scene.film.samplesPerPixel)},
+            {"patches", std::to_string(result.patches)},
+            {"triangles", std::to_string(result.triangles)},
+            {"sample test efficiency", std::to_string(ste)},
+            {"shading rate", shadingRateName(options.resolve.shadingRate)},
+            {"shading reuse rate", std::to_string(shadingReuseRate(counters))},
+            {"filter", resolveFilterName(options.resolve.filter)},
+            {"max layers", std::to_string(options.maxLayers)},
+            {"tile size", std::to_string(o.tileSize)},
+            {"leaf size", std::to_string(o.leafSize)},
+            {"branch method", branchMethodName(o.branchMethod)},
+            {"bounds space", boundsSpaceName(o.boundsSpace)},
+            {"merge triangles below", std::to_string(o.mergeTrianglesBelow)},
+            {"time refinement", !o.timeRefinement          ? "off"
+                                : o.interiorTimeRefinement ? "every level"
+                                                           : "leaves"},
+            {"z culling", o.zCulling ? "on" : "off"},
+            {"hardware", hardware.empty() ? "builtin:hw/default.json" : hardware}};
+}
+
+// Reserves render's outputs on rank 0; every rank learns whether that succeeded.
+bool reserveRenderOutputs(const JobSettings& s, const MpiContext& mpi, OutputSet& outputs) {
+    std::exception_ptr outputError;
+    if (mpi.rank() == 0) {
+        try {
+            outputs.folder(s.output, "-o");
+            for (const char* name : {"image.exr", "image.png", "stats.json"})
+                outputs.file(joinOutputPath(s.output, name), "-o");
+            if (!s.trace.empty()) outputs.file(s.trace, "--trace");
+        } catch (const InputError&) {
+            outputError = std::current_exception();
+        }
+    }
+    if (!mpi.allSucceeded(outputError == nullptr)) {
+        if (outputError) std::rethrow_exception(outputError);
+        return false;  // rank 0 refused the outputs and said why
+    }
+    return true;
+}
+
+void printRenderSummary(const JobSettings& s, const SceneDesc& scene, const RenderOptions& options,
+                        const RenderResult& result, double ste, std::size_t heatMaps) {
+    std::cout << "rendered " << scene.path << " (" << describeMode(result.effects) << ") with the "
+              << visibilityMethodName(options.method) << " method: " << result.patches
+              << " patches, " << result.triangles << " triangles; front end "
+              << result.frontEndSeconds << " s, visibility " << result.visibilitySeconds
+              << " s, shading " << result.shadingSeconds << " s; STE " << ste << "\nwrote "
+              << s.output
+              << "/image.exr (R G B Z coverage motion.x motion.y), image.png, stats.json";
+    if (heatMaps > 0) std::cout << " and " << heatMaps << " heat maps";
+    std::cout << "\n";
+}
+
+}  // namespace
+
+int runInfo(const JobSettings& s) {
+    FrontEnd frontEnd(loadScene(s));
+    const SceneInfo info = gatherSceneInfo(frontEnd, overridesOf(s), s.threads);
+    printSceneInfo(std::cout, frontEnd, info);
+    return 0;
+}
+
+int runTessellate(const JobSettings& s) {
+    FrontEnd frontEnd(loadScene(s));
+    OutputSet outputs;
+    outputs.file(s.output, "-o");  // checked before the work
+    if (!s.stats.empty()) outputs.file(s.stats, "--stats");
+    TessellateOptions options;
+    options.time = s.time;
+    options.threads = s.threads;
+    TessellationSummary summary;
+    outputs.writeText(s.output, "-o", [&](std::ostream& out) {
+        summary = writeTessellationObj(frontEnd, options, out);
+    });
+    StatsContext context{"tessellate", frontEnd.scene().path, {}, {}};
+    context.options = recordedOptions(Command::Tessellate, s, nullptr);
+    if (!s.stats.empty()) writeStats(outputs, s.stats, "--stats", context);
+    outputs.commit();
+    std::cout << "wrote " << s.output << ": " << summary.patches << " patches, " << summary.vertices
+              << " vertices, " << summary.triangles << " triangles at t=" << s.time << "\n";
+    if (!s.quiet) printCounterTable(std::cout, CounterRegistry::instance().snapshot());
+    return 0;
+}
+
+int runRender(const JobSettings& s, const MpiContext& mpi) {
+    SceneDesc scene = loadScene(s);
+    applyRenderOverrides(s, scene);
+    RenderOptions options = renderOptionsOf(s);
+    options.threads = mpi.threadsPerRank(s.threads);
+    const HardwareConfig hardware = hardwareOf(s);
+    // Every output path is checked before the work; nothing is written unless all succeed. Under
+    // mpirun the frame is split across ranks by screen tiles and rank 0 writes the one output.
+    OutputSet outputs;
+    if (!reserveRenderOutputs(s, mpi, outputs)) return 2;
+    if (mpi.active()) {
+        options.share = {mpi.rank(), mpi.size(),
+                         [&mpi](const std::string& mine) { return mpi.gather(mine); },
+                         [&mpi] { return mpi.makeProgressShare(); }};
+        options.progress = options.progress && mpi.rank() == 0;
+    }
+    CounterRegistry::instance().reset();
+    const RenderResult result = renderScene(scene, options);
+    if (!result.complete) return 0;  // another rank writes the frame
+    for (const std::string& note : result.notes) std::cerr << "patchsim: " << note << "\n";
+    const TimingReport timing = simulateTiming(result.patchOps, hardware);
+    const CounterValues counters = CounterRegistry::instance().snapshot();
+    writeExrWithAovs(result.frame, outputs.file(joinOutputPath(s.output, "image.exr"), "-o"));
+    writePng(result.frame.color, outputs.file(joinOutputPath(s.output, "image.png"), "-o"));
+    std::vector<std::string> heatMaps;
+    if (result.pixels) heatMaps = writeHeatMaps(*result.pixels, s.output, outputs);
+    const double ste = counters.ratio(sampleTestEfficiencyOf(options.method));
+    StatsContext context{"render", scene.path, {}, {}, &timing};
+    context.facts = renderFacts(scene, options, result, counters, ste, s.hardware);
+    context.options = recordedOptions(Command::Render, s, &scene.rasterizer);
+    writeStats(outputs, joinOutputPath(s.output, "stats.json"), "-o", context);
+    if (!s.trace.empty())
+        outputs.writeText(s.trace, "--trace",
+                          [&](std::ostream& out) { writeChromeTrace(timing, out); });
+    outputs.commit();
+    if (!s.quiet) printCounterTable(std::cout, counters);
+    if (mpi.active())
+        std::cout << "split across " << mpi.size() << " MPI ranks by tile-row classes\n";
+    printTimingReport(timing, std::cout);
+    printRenderSummary(s, scene, options, result, ste, heatMaps.size());
+    return 0;
+}
+
+int runExplore(const JobSettings& s, const MpiContext& mpi) {
+    const SceneLimits limits = s.limits();
+    std::vector<SceneDesc> scenes;
+    for (const std::string& path : s.scenes) scenes.push_back(readSceneOrCage(path, limits));
+    if (scenes.empty()) scenes.push_back(defaultScene(limits));
+    const ExploreGrid grid = parseExploreGrid(readTextFile(s.grid), s.grid);
+    const HardwareConfig hardware = hardwareOf(s);
+    OutputSet outputs;  // only rank 0 writes; every rank checks the paths alike
+    outputs.file(s.output, "-o");
+    if (!s.plots.empty()) outputs.folder(s.plots, "--plots");
+    const std::size_t jobs = exploreJobs(scenes.size(), grid).size();
+    // Jobs are dealt round-robin over ranks; each rank tags its rows with the job number. A job
+    // that fails on one rank must not leave the others waiting: every rank reports, then all stop.
+    std::vector<ExploreRow> mine;
+    std::exception_ptr failure;
+    try {
+        runExploreJobs(
+            scenes, grid, hardware, mpi.threadsPerRank(s.threads), limits,
+            [&](std::size_t j) { return int(j % std::size_t(mpi.size())) == mpi.rank(); },
+            [&](std::size_t j, const std::vector<ExploreRow>& rows) {
+                mine.insert(mine.end(), rows.begin(), rows.end());
+                if (mpi.rank() == 0 && !s.noProgress)
+                    std::cerr << "explore: job " << j + 1 << " of " << jobs << " done\n";
+            });
+    } catch (const InputError&) {
+        failure = std::current_exception();
+    }
+    if (!mpi.allSucceeded(failure == nullptr)) {
+        if (failure) std::rethrow_exception(failure);
+        return 2;  // another rank failed and printed why
+    }
+    const std::vector<std::string> parts = mpi.gather(packExploreRows(mine));
+    if (mpi.rank() != 0) return 0;
+    std::vector<ExploreRow> rows;
+    for (const std::string& part : parts) {
+        const std::vector<ExploreRow> theirs = unpackExploreRows(part);
+        rows.insert(rows.end(), theirs.begin(), theirs.end());
+    }
+    std::stable_sort(rows.begin(), rows.end(),
+                     [](const ExploreRow& a, const ExploreRow& b) { return a.job < b.job; });
+    std::string csv = exploreCsvHeader(grid) + "\n";
+    for (const ExploreRow& row : rows) csv += row.csv + "\n";
+    outputs.writeText(s.output, "-o", [&](std::ostream& out) { out << csv; });
+    std::vector<std::string> plots;
+    if (!s.plots.empty()) plots = writeExplorePlots(rows, grid, s.plots, outputs);
+    outputs.commit();
+    std::cout << "wrote " << s.output << ": " << rows.size() << " points (" << jobs << " renders"
+              << (mpi.active() ? " over " + std::to_string(mpi.size()) + " MPI ranks"
+                               : std::string())
+              << ")\n";
+    for (const std::string& file : plots) std::cout << "wrote " << file << "\n";
+    return 0;
+}
+
+int runSweepCommand(const JobSettings& s) {
+    SweepOptions o;
+    for (const std::string& name : s.methods) {
+        VisibilityMethod m;
+        parseVisibilityMethod(name, m);  // checked against the method table
+        o.methods.push_back(m);
+    }
+    o.samplesPerPixel = s.sppList;
+    o.repeats = s.repeats;
+    o.convergedSamplesPerPixel = s.convergedSpp;
+    o.render = renderOptionsOf(s);
+    o.hardware = hardwareOf(s);
+    o.limits = s.limits();
+    o.outputDir = s.output;
+    o.progress = !s.noProgress;
+    // The scenes' own film.spp is not what the sweep renders: their films are checked against
+    // the budget at every --spp below, before the first run.
+    SceneLimits unlimited;
+    unlimited.memoryBudgetBytes = ~std::uint64_t(0);
+    std::vector<std::string> paths = s.scenes;
+    if (paths.empty()) paths.push_back("");
+    std::vector<SweepScene> scenes;
+    for (const std::string& path : paths) {
+        const SceneDesc scene =
+            path.empty() ? defaultScene(unlimited) : readSceneOrCage(path, unlimited);
+        for (float blur : s.blurList) {
+            scenes.push_back({sweepSceneLabel(path, blur, paths),
+                              blur == 1.0f ? scene : scaleBlur(scene, blur)});
+        }
+    }
+    runSweep(scenes, o, std::cout);
+    return 0;
+}
+
+namespace {
+
+void writeVerifySummary(const TileVerifierResult& result, std::ostream& out) {
+    out << "variant,model,cases,true_hits,true_misses,false_rejects,false_accepts,"
+           "false_accept_percent,excess_median,excess_p90,excess_p95,excess_p99,excess_unit\n";
+    for (const TileTestReport& r : result.reports) {
+        char line[512];
+        std::snprintf(
+            line, sizeof line, "%s,%s,%lld,%lld,%lld,%lld,%lld,%.4f,%.4g,%.4g,%.4g,%.4g,%s\n",
+            r.name.c_str(), caseModelName(r.model), static_cast<long long>(r.cases),
+            static_cast<long long>(r.trueHits), static_cast<long long>(r.trueMisses),
+            static_cast<long long>(r.falseRejects), static_cast<long long>(r.falseAccepts),
+            r.falseAcceptPercent(), r.excess.quantile(0.5), r.excess.quantile(0.9),
+            r.excess.quantile(0.95), r.excess.quantile(0.99), r.excessUnit);
+        out << line;
+    }
+}
+
+void printVerifyReport(const TileVerifierResult& result, std::uint64_t seed) {
+    for (const TileTestReport& r : result.reports) {
+        char line[512], excess[128] = "excess -";
+        if (r.excess.count > 0)
+            std::snprintf(excess, sizeof excess, "excess median %.3g, p95 %.3g %s",
+                          r.excess.quantile(0.5), r.excess.quantile(0.95), r.excessUnit);
+        std::snprintf(line, sizeof line,
+                      "%s (%s): cases %lld, false rejects %lld, false accepts %lld of %lld misses "
+                      "(%.2f%%), %s",
+                      r.name.c_str(), caseModelName(r.model), static_cast<long long>(r.cases),
+                      static_cast<long long>(r.falseRejects),
+                      static_cast<long long>(r.falseAccepts), static_cast<long long>(r.trueMisses),
+                      r.falseAcceptPercent(), excess);
+        std::cout << line << "\n";
+        if (r.falseRejects > 0)
+            std::cout << "  first false reject: patchsim verify-tiles --seed " << seed
+                      << " --replay " << r.firstFailure << "\n";
+    }
+    std::cout << "witness: " << result.witnessCases << " cases sampled, " << result.witnessHits
+              << " sampled hits, " << result.witnessOutsideTruth << " outside the exact truth\n";
+}
+
+}  // namespace
+
+int runVerifyTiles(const JobSettings& s) {
+    const auto seed = std::uint64_t(s.seed);
+    if (!s.replay.empty()) {
+        if (!replayTileCase(s.replay, seed, std::cout))
+            throw InputError(
+                "command line", "--replay",
+                "'" + s.replay + "' is not a case name (pinhole:N, lens:N or hierarchy:N)");
+        return 0;
+    }
+    TileVerifierOptions o;
+    o.cases = s.cases;
+    o.seed = seed;
+    o.threads = s.threads;
+    o.witnessEvery = s.witnessEvery;
+    OutputSet outputs;
+    std::ofstream csv;
+    if (!s.summary.empty()) outputs.file(s.summary, "--summary");  // checked before the work
+    if (!s.csv.empty()) {
+        // Streamed into the reserved temporary: a million cases are too many rows to hold.
+        csv.open(outputs.file(s.csv, "--csv"));
+        if (!csv) throw InputError(s.csv, "--csv", "cannot write the file");
+        o.csv = &csv;
+    }
+    const TileVerifierResult result = verifyTileTests(o);
+    if (csv.is_open()) {
+        csv.close();
+        if (!csv) throw InputError(s.csv, "--csv", "writing the file failed");
+    }
+    if (!s.summary.empty())
+        outputs.writeText(s.summary, "--summary",
+                          [&](std::ostream& out) { writeVerifySummary(result, out); });
+    printVerifyReport(result, seed);
+    outputs.commit();
+    return result.anyFalseReject() ? 1 : 0;
+}
+
+}  // namespace patchsim

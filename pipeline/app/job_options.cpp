@@ -1,0 +1,474 @@
+#include "pipeline/app/job_options.h"
+
+#include <charconv>
+#include <cmath>
+#include <cstdio>
+#include <set>
+#include <sstream>
+
+#include "pipeline/core/error.h"
+#include "pipeline/core/rasterizer_options.h"
+#include "pipeline/core/visibility_method.h"
+
+namespace patchsim {
+
+namespace {
+
+constexpr unsigned kInfo = commandBit(Command::Info), kTess = commandBit(Command::Tessellate),
+                   kRender = commandBit(Command::Render),
+                   kVerify = commandBit(Command::VerifyTiles), kSweep = commandBit(Command::Sweep),
+                   kExplore = commandBit(Command::Explore);
+constexpr unsigned kScenes = kInfo | kTess | kRender | kSweep | kExplore;
+
+std::vector<std::string> methodNames() {
+    std::vector<std::string> names;
+    for (const VisibilityMethodInfo& m : visibilityMethods()) names.push_back(m.name);
+    return names;
+}
+
+using S = JobSettings;
+using K = ValueKind;
+
+// Rows in the order the help lists them. A flag may have one row per command when its meaning
+// differs (-o names a folder for render, a file for tessellate).
+std::vector<JobOption> makeTable() {
+    const double kMaxSeed = 9.2e18;  // below 2^63
+    const unsigned kPerMethod = kRender | kSweep;
+    using O = JobOption;
+    std::vector<JobOption> t;
+    t.push_back(O("scene", kInfo | kTess | kRender, K::InputPath, &S::scenes,
+                  "Scene JSON file, or an OBJ cage to view alone (default: the built-in scene)"));
+    t.push_back(O("scenes", kSweep | kExplore, K::InputPath, &S::scenes,
+                  "Scene JSON files or OBJ cages (default: the built-in scene)"));
+    t.push_back(O("-o,--output", kRender, K::OutputFolder, &S::output,
+                  "Output folder for image.exr, image.png, stats.json (and heat maps)"));
+    t.push_back(O("-o,--output", kTess, K::OutputFile, &S::output, "Output OBJ file"));
+    t.push_back(O("-o,--output", kSweep, K::OutputFolder, &S::output,
+                  "Folder for results.csv, images/, plots/ and the converged-image cache"));
+    t.push_back(O("-o,--output", kExplore, K::OutputFile, &S::output, "CSV file to write"));
+    t.push_back(
+        O("--grid", kExplore, K::InputPath, &S::grid, "Grid file (docs/EXPLORE.md); required"));
+    t.push_back(O("--plots", kExplore, K::OutputFolder, &S::plots,
+                  "Folder for the plots of cycles against every parameter"));
+    t.push_back(O("--method", kRender, K::Name, &S::method, "Visibility method")
+                    .oneOf(methodNames())
+                    .recordedAs("method"));
+    t.push_back(
+        O("--methods", kSweep, K::NameList, &S::methods, "Comma-separated visibility methods")
+            .oneOf(methodNames()));
+    t.push_back(O("--spp", kRender, K::Integer, &S::spp,
+                  "Samples per pixel, instead of the scene's film.spp (0: the scene's)")
+                    .in(0, 4096));
+    t.push_back(O("--spp", kSweep, K::IntegerList, &S::sppList, "Comma-separated samples per pixel")
+                    .in(1, 4096));
+    t.push_back(O("--width", kRender, K::Integer, &S::width,
+                  "Film width in pixels, instead of the scene's (0: the scene's)")
+                    .in(0, 16384));
+    t.push_back(O("--height", kRender, K::Integer, &S::height,
+                  "Film height in pixels, instead of the scene's (0: the scene's)")
+                    .in(0, 16384));
+    t.push_back(O("--blur", kSweep, K::RealList, &S::blurList,
+                  "Comma-separated scales of every scene's motion and aperture")
+                    .in(0, 1000)
+                    .openBelow());
+    t.push_back(
+        O("--repeats", kSweep, K::Integer, &S::repeats, "Renders per run; the median time counts")
+            .in(1, 100));
+    t.push_back(O("--converged-spp", kSweep, K::Integer, &S::convergedSpp,
+                  "Samples per pixel of the converged image (0: 16 x the largest --spp)")
+                    .in(0, 1 << 20));
+    t.push_back(
+        O("--time-strata", kPerMethod, K::Integer, &S::timeStrata, "interval: time strata K")
+            .in(1, 64)
+            .recordedAs("time_strata"));
+    t.push_back(O("--pp-tile-size", kPerMethod, K::Integer, &S::ppTileSize,
+                  "postprocess: TileMax tile size k in pixels (velocities are clamped to it)")
+                    .in(1, 1024)
+                    .recordedAs("pp_tile_size"));
+    t.push_back(O("--pp-samples", kPerMethod, K::Integer, &S::ppSamples,
+                  "postprocess: samples gathered per pixel (odd: the centre is the pixel itself)")
+                    .in(3, 255)
+                    .oddOnly()
+                    .recordedAs("pp_samples"));
+    t.push_back(O("--soft-z-extent", kPerMethod, K::Real, &S::softZExtent,
+                  "postprocess: SOFT_Z_EXTENT, the depth over which samples blend from in front "
+                  "to behind (scene units)")
+                    .in(1e-6, 1e6)
+                    .recordedAs("soft_z_extent"));
+    t.push_back(O("--edge-threshold", kPerMethod, K::Real, &S::edgeThreshold,
+                  "hybrid: Sobel edge threshold e of the ray mask")
+                    .in(0, 1)
+                    .openAbove()
+                    .recordedAs("edge_threshold"));
+    t.push_back(O("--camera-steps", kPerMethod, K::Integer, &S::cameraSteps,
+                  "reprojection: interpolated cameras per reprojection cycle")
+                    .in(2, 1024)
+                    .recordedAs("camera_steps"));
+    t.push_back(O("--motion-samples", kPerMethod, K::Integer, &S::motionSamples,
+                  "tfragment: time samples per lens ray (the paper's 4 and 32)")
+                    .in(1, 256)
+                    .recordedAs("motion_samples"));
+    t.push_back(O("--time-sampled", kRender, K::Flag, &S::timeSampled,
+                  "tfragment: trace once per motion sample instead of once per lens ray (the "
+                  "paper's comparison)")
+                    .recordedAs("time_sampled"));
+    t.push_back(O("--no-time-refinement", kRender, K::Flag, &S::noTimeRefinement,
+                  "Same as --time-refinement false"));
+    t.push_back(O("--no-z-culling", kRender, K::Flag, &S::noZCulling, "Same as --z-culling false"));
+    t.push_back(O("--filter", kRender, K::Name, &S::filter, "Resolve filter")
+                    .oneOf({"box", "gaussian"})
+                    .recordedAs("filter"));
+    t.push_back(O("--shading-rate", kRender, K::Name, &S::shadingRate,
+                  "per-fragment (every t-fragment) or per-pixel-primitive (MSAA-style reuse)")
+                    .oneOf({"per-fragment", "per-pixel-primitive"})
+                    .recordedAs("shading_rate"));
+    t.push_back(O("--max-layers", kRender, K::Integer, &S::maxLayers,
+                  "Transparent t-fragments kept per sample")
+                    .in(1, 255)
+                    .recordedAs("max_layers"));
+    t.push_back(O("--heatmaps", kRender, K::Flag, &S::heatMaps,
+                  "Also write per-pixel and per-tile heat maps of the rasterizer's work (the "
+                  "methods that count per pixel)")
+                    .recordedAs("heatmaps"));
+    t.push_back(O("--no-motion", kInfo | kRender | kSweep, K::Flag, &S::noMotion,
+                  "Do not simulate motion blur")
+                    .recordedAs("no_motion"));
+    t.push_back(O("--no-defocus", kInfo | kRender | kSweep, K::Flag, &S::noDefocus,
+                  "Do not simulate defocus blur")
+                    .recordedAs("no_defocus"));
+    t.push_back(O("--no-transparency", kInfo | kRender | kSweep, K::Flag, &S::noTransparency,
+                  "Treat every surface as opaque")
+                    .recordedAs("no_transparency"));
+    t.push_back(O("-t,--time", kTess, K::Real, &S::time, "Shutter time of the written positions")
+                    .in(0, 1)
+                    .recordedAs("time"));
+    t.push_back(
+        O("--stats", kTess, K::OutputFile, &S::stats, "Also write the counters as stats JSON"));
+    t.push_back(O("--hw", kRender | kSweep | kExplore, K::InputPath, &S::hardware,
+                  "Hardware configuration JSON for the timing model (default: the built-in "
+                  "pipeline/hw/default.json)"));
+    t.push_back(O("--trace", kRender, K::OutputFile, &S::trace,
+                  "Write the per-patch timeline as Chrome trace-event JSON"));
+    t.push_back(O("--cases", kVerify, K::Integer, &S::cases, "Random cases per model")
+                    .in(1, double(std::int64_t(1) << 40)));
+    t.push_back(
+        O("--seed", kVerify, K::Integer, &S::seed, "Seed of the random cases").in(0, kMaxSeed));
+    t.push_back(O("--witness-every", kVerify, K::Integer, &S::witnessEvery,
+                  "Check the exact truth with sampled rays on every Nth case (0: never)")
+                    .in(0, 1 << 30));
+    t.push_back(O("--csv", kVerify, K::OutputFile, &S::csv, "Write one row per case and variant"));
+    t.push_back(O("--summary", kVerify, K::OutputFile, &S::summary,
+                  "Write one row per variant (for scripts/plot_tile_tests.py)"));
+    t.push_back(O("--replay", kVerify, K::Text, &S::replay,
+                  "Print one case (e.g. lens:1234) in full and every variant's answer"));
+    t.push_back(O("--threads", kScenes | kVerify, K::Integer, &S::threads,
+                  "Worker threads (0: all cores; under mpirun, this rank's share of them)")
+                    .in(0, 4096));
+    t.push_back(O("--memory-budget-mib", kScenes, K::Integer, &S::memoryBudgetMiB,
+                  "MiB the film's samples and the rasterizer's tile scratch may take")
+                    .in(1, double(std::int64_t(1) << 30))
+                    .recordedAs("memory_budget_mib"));
+    t.push_back(
+        O("-q,--quiet", kTess | kRender, K::Flag, &S::quiet, "Do not print the counter table"));
+    t.push_back(O("--no-progress", kRender | kSweep | kExplore, K::Flag, &S::noProgress,
+                  "No progress bar"));
+    return t;
+}
+
+std::string rangeText(const JobOption& o) {
+    char text[96];
+    std::snprintf(text, sizeof text, "%c%.10g, %.10g%c", o.loOpen ? '(' : '[', o.lo, o.hi,
+                  o.hiOpen ? ')' : ']');
+    return text;
+}
+
+std::string quoted(const std::string& s) {
+    return "'" + s + "'";
+}
+
+std::string joined(const std::vector<std::string>& items) {
+    std::string text;
+    for (const std::string& item : items) text += (text.empty() ? "" : ", ") + item;
+    return text;
+}
+
+// One value of a row's element kind, or an error message.
+std::string parseInteger(const JobOption& o, const std::string& text, std::int64_t& out) {
+    const char* end = text.data() + text.size();
+    const auto [ptr, ec] = std::from_chars(text.data(), end, out);
+    if (ec != std::errc() || ptr != end)
+        return "expected a whole number in " + rangeText(o) + ", found " + quoted(text);
+    if (double(out) < o.lo || double(out) > o.hi)
+        return std::to_string(out) + " is outside " + rangeText(o);
+    if (o.odd && out % 2 == 0) return std::to_string(out) + " is even; it must be odd";
+    return {};
+}
+
+std::string parseReal(const JobOption& o, const std::string& text, double& out) {
+    const char* end = text.data() + text.size();
+    const auto [ptr, ec] = std::from_chars(text.data(), end, out);
+    if (ec != std::errc() || ptr != end || !std::isfinite(out))
+        return "expected a finite number in " + rangeText(o) + ", found " + quoted(text);
+    const bool below = o.loOpen ? !(out > o.lo) : !(out >= o.lo);
+    const bool above = o.hiOpen ? !(out < o.hi) : !(out <= o.hi);
+    if (below || above) return quoted(text) + " is outside " + rangeText(o);
+    return {};
+}
+
+std::string parseName(const JobOption& o, const std::string& text) {
+    for (const std::string& c : o.choices)
+        if (c == text) return {};
+    return quoted(text) + " is not one of " + joined(o.choices);
+}
+
+// Items of a comma-separated list; an empty item (",,", a leading or trailing comma) is an error.
+std::string splitList(const std::string& text, std::vector<std::string>& items) {
+    std::string item;
+    std::istringstream in(text);
+    while (std::getline(in, item, ',')) items.push_back(item);
+    if (!text.empty() && text.back() == ',') items.push_back({});
+    for (const std::string& i : items)
+        if (i.empty()) return "empty item in the list " + quoted(text);
+    if (items.empty()) return "needs at least one value";
+    return {};
+}
+
+// "4,4" and "2,2.0" alike: a repeated value would give two runs the same name.
+template <class T>
+std::string checkDistinct(const std::vector<T>& values, const std::string& text) {
+    const std::set<T> distinct(values.begin(), values.end());
+    if (distinct.size() != values.size()) return "the list " + quoted(text) + " repeats an item";
+    return {};
+}
+
+std::string checkPath(const JobOption& o, const std::string& text) {
+    if (text.empty())
+        return o.kind == K::OutputFolder ? "empty folder name"
+               : o.kind == K::InputPath  ? "empty file name"
+                                         : "empty output file name";
+    return {};
+}
+
+// Parses `text` into the row's field of `s`; returns an error message, empty when accepted.
+std::string apply(const JobOption& o, const std::string& text, JobSettings& s) {
+    std::string error;
+    switch (o.kind) {
+        case K::Flag:
+            s.*std::get<bool S::*>(o.field) = true;
+            return {};
+        case K::Integer: {
+            std::int64_t v = 0;
+            if (!(error = parseInteger(o, text, v)).empty()) return error;
+            if (auto* f = std::get_if<int S::*>(&o.field))
+                s.*(*f) = int(v);
+            else
+                s.*std::get<std::int64_t S::*>(o.field) = v;
+            return {};
+        }
+        case K::Real: {
+            double v = 0;
+            if (!(error = parseReal(o, text, v)).empty()) return error;
+            s.*std::get<float S::*>(o.field) = float(v);
+            return {};
+        }
+        case K::Name:
+            if (!(error = parseName(o, text)).empty()) return error;
+            s.*std::get<std::string S::*>(o.field) = text;
+            return {};
+        case K::Text:
+            if (text.empty()) return "empty value";
+            s.*std::get<std::string S::*>(o.field) = text;
+            return {};
+        case K::InputPath:
+        case K::OutputFile:
+        case K::OutputFolder:
+            if (!(error = checkPath(o, text)).empty()) return error;
+            if (auto* list = std::get_if<std::vector<std::string> S::*>(&o.field))
+                (s.*(*list)).push_back(text);
+            else
+                s.*std::get<std::string S::*>(o.field) = text;
+            return {};
+        default:
+            break;
+    }
+    std::vector<std::string> items;
+    if (!(error = splitList(text, items)).empty()) return error;
+    if (o.kind == K::NameList) {
+        for (const std::string& item : items)
+            if (!(error = parseName(o, item)).empty()) return error;
+        if (!(error = checkDistinct(items, text)).empty()) return error;
+        s.*std::get<std::vector<std::string> S::*>(o.field) = items;
+    } else if (o.kind == K::IntegerList) {
+        std::vector<int>& out = s.*std::get<std::vector<int> S::*>(o.field);
+        out.clear();
+        for (const std::string& item : items) {
+            std::int64_t v = 0;
+            if (!(error = parseInteger(o, item, v)).empty()) return error;
+            out.push_back(int(v));
+        }
+        return checkDistinct(out, text);
+    } else {
+        std::vector<float>& out = s.*std::get<std::vector<float> S::*>(o.field);
+        out.clear();
+        for (const std::string& item : items) {
+            double v = 0;
+            if (!(error = parseReal(o, item, v)).empty()) return error;
+            out.push_back(float(v));
+        }
+        return checkDistinct(out, text);
+    }
+    return {};
+}
+
+template <class T>
+std::string listText(const std::vector<T>& v) {
+    std::ostringstream out;
+    for (std::size_t i = 0; i < v.size(); ++i) out << (i ? "," : "") << v[i];
+    return out.str();
+}
+
+}  // namespace
+
+const char* commandName(Command c) {
+    static const char* const kNames[] = {"info",         "tessellate", "render",
+                                         "verify-tiles", "sweep",      "explore"};
+    return kNames[int(c)];
+}
+
+SceneLimits JobSettings::limits() const {
+    SceneLimits l;
+    l.memoryBudgetBytes = std::uint64_t(memoryBudgetMiB) << 20;
+    return l;
+}
+
+JobSettings defaultJobSettings(Command c) {
+    JobSettings s;
+    switch (c) {
+        case Command::Render:
+            s.output = "out";
+            break;
+        case Command::Tessellate:
+            s.output = "tessellation.obj";
+            break;
+        case Command::Sweep:
+            s.output = "sweep";
+            s.methods = {"patch",       "triangle-bbox", "interval",     "interleaved",
+                         "postprocess", "hybrid",        "reprojection", "tfragment"};
+            s.sppList = {1, 4, 16, 64};
+            s.blurList = {1.0f};
+            break;
+        case Command::Explore:
+            s.output = "explore.csv";
+            break;
+        default:
+            break;
+    }
+    return s;
+}
+
+const std::vector<JobOption>& jobOptions() {
+    static const std::vector<JobOption> table = makeTable();
+    return table;
+}
+
+std::string JobOption::longName() const {
+    const std::string f = flag;
+    const std::size_t comma = f.rfind(',');
+    return comma == std::string::npos ? f : f.substr(comma + 1);
+}
+
+void applyJobOption(const JobOption& option, const std::string& text, JobSettings& settings) {
+    const std::string error = apply(option, text, settings);
+    if (!error.empty()) throw InputError("command line", option.longName(), error);
+}
+
+std::string jobOptionValue(const JobOption& o, const JobSettings& s) {
+    return std::visit(
+        [&s](auto field) -> std::string {
+            const auto& v = s.*field;
+            using T = std::decay_t<decltype(v)>;
+            if constexpr (std::is_same_v<T, bool>) {
+                return v ? "true" : "false";
+            } else if constexpr (std::is_same_v<T, std::string>) {
+                return v;
+            } else if constexpr (std::is_same_v<T, float>) {
+                char text[32];
+                std::snprintf(text, sizeof text, "%.9g", double(v));
+                return text;
+            } else if constexpr (std::is_arithmetic_v<T>) {
+                return std::to_string(v);
+            } else {
+                return listText(v);
+            }
+        },
+        o.field);
+}
+
+std::string jobOptionsMarkdown() {
+    std::ostringstream out;
+    out << "# Command-line options\n\n"
+           "Generated from the options table (`pipeline/app/job_options.cpp`) by `patchsim "
+           "options`; a test keeps this page equal to it. Every value is checked by its row's "
+           "rule: numbers must be finite and in range, paths must not be empty, lists must not "
+           "have empty or repeated items. A refused value is one error line naming the option, "
+           "and exit code 2.\n";
+    for (int c = 0; c < kCommandCount; ++c) {
+        const Command command = Command(c);
+        const JobSettings defaults = defaultJobSettings(command);
+        out << "\n## patchsim " << commandName(command)
+            << "\n\n| option | value | default | stats.json | meaning |\n|---|---|---|---|---|\n";
+        for (const JobOption& o : jobOptions()) {
+            if (!o.takes(command)) continue;
+            std::string value;
+            switch (o.kind) {
+                case K::Flag:
+                    value = "flag";
+                    break;
+                case K::Integer:
+                    value = "whole number in " + rangeText(o);
+                    break;
+                case K::Real:
+                    value = "number in " + rangeText(o);
+                    break;
+                case K::Name:
+                    value = "one of " + joined(o.choices);
+                    break;
+                case K::InputPath:
+                    value = "file to read";
+                    break;
+                case K::OutputFile:
+                    value = "file to write";
+                    break;
+                case K::OutputFolder:
+                    value = "folder to write into";
+                    break;
+                case K::Text:
+                    value = "text";
+                    break;
+                case K::IntegerList:
+                    value = "list of whole numbers in " + rangeText(o);
+                    break;
+                case K::RealList:
+                    value = "list of numbers in " + rangeText(o);
+                    break;
+                case K::NameList:
+                    value = "list of " + joined(o.choices);
+                    break;
+            }
+            if (o.odd) value += ", odd";
+            const std::string def = o.kind == K::Flag ? "" : jobOptionValue(o, defaults);
+            out << "| `" << o.flag << "` | " << value << " | "
+                << (def.empty() ? "" : "`" + def + "`") << " | "
+                << (o.statsKey ? std::string("`") + o.statsKey + "`" : "") << " | " << o.help
+                << " |\n";
+        }
+        if (command == Command::Render) {
+            for (const RasterizerOptionField& f : rasterizerOptionFields())
+                out << "| `" << f.flag << "` | (rasterizer option) | the scene's | `rasterizer."
+                    << f.key << "` | " << f.help << " |\n";
+        }
+    }
+    return out.str();
+}
+
+}  // namespace patchsim

@@ -1,0 +1,161 @@
+#pragma once
+// Every option of every subcommand, in one table (docs/OPTIONS.md is generated from it).
+//
+// Representation
+// --------------
+// `JobSettings` is one flat struct of everything a command line can set, with the defaults a
+// command starts from. Each `JobOption` row names its flag, the commands that take it, its help,
+// the kind of value (a count, a finite real, a name from a list, a path to read, a file or folder
+// to write, a comma-separated list), the range, the key under which stats.json records it, and the
+// `JobSettings` field it sets, as a member pointer. The command line hands every text it is given
+// to `applyJobOption`, which checks it by the row's one rule and sets the field, so a value is
+// refused the same way wherever it comes from: NaN and infinities never pass a range, an empty
+// path is never taken for ".", a list never has an empty or repeated item. stats.json writes the
+// rows' values back through `jobOptionValue`. The patch rasterizer's own options keep their table
+// (pipeline/core/rasterizer_options.h); `render` takes them as flags too.
+
+#include <cstdint>
+#include <map>
+#include <string>
+#include <utility>
+#include <variant>
+#include <vector>
+
+#include "backend/hybrid_motion_blur.h"
+#include "backend/motion_blur_postprocess.h"
+#include "backend/sample_reprojection.h"
+#include "backend/tfragment_generation.h"
+#include "pipeline/core/scene_reader.h"
+
+namespace patchsim {
+
+enum class Command : std::uint8_t { Info, Tessellate, Render, VerifyTiles, Sweep, Explore };
+inline constexpr int kCommandCount = 6;
+const char* commandName(Command c);
+constexpr unsigned commandBit(Command c) {
+    return 1u << unsigned(c);
+}
+
+struct JobSettings {
+    std::vector<std::string> scenes;  // the positional scene files (empty: the built-in scene)
+    std::string output;
+    int threads = 0;
+    std::int64_t memoryBudgetMiB = 4096;
+    bool noMotion = false, noDefocus = false, noTransparency = false;
+    bool quiet = false, noProgress = false;
+    std::string hardware;
+    // render (and the per-method options sweep shares)
+    std::string method = "patch";
+    int spp = 0, width = 0, height = 0;  // 0: the scene's own film
+    int timeStrata = 4;
+    int ppTileSize = PostprocessOptions{}.tileSize, ppSamples = PostprocessOptions{}.samples;
+    float softZExtent = PostprocessOptions{}.softZExtent;
+    float edgeThreshold = HybridOptions{}.edgeThreshold;
+    int cameraSteps = ReprojectionOptions{}.cameraSteps;
+    int motionSamples = TFragmentOptions{}.motionSamples;
+    bool timeSampled = false;
+    bool noTimeRefinement = false, noZCulling = false;
+    std::string filter = "box", shadingRate = "per-fragment";
+    int maxLayers = 16;
+    bool heatMaps = false;
+    std::string trace;
+    std::map<std::string, std::string> rasterizer;  // rasterizer option key -> given text
+    // tessellate
+    float time = 0.0f;
+    std::string stats;
+    // verify-tiles
+    std::int64_t cases = 2000, seed = 1;
+    int witnessEvery = 64;
+    std::string csv, summary, replay;
+    // sweep
+    std::vector<std::string> methods;
+    std::vector<int> sppList;
+    std::vector<float> blurList;
+    int repeats = 3, convergedSpp = 0;
+    // explore
+    std::string grid, plots;
+
+    SceneLimits limits() const;
+};
+
+// The settings a command starts from (its own default output name, method list, ...).
+JobSettings defaultJobSettings(Command c);
+
+enum class ValueKind : std::uint8_t {
+    Flag,
+    Integer,
+    Real,
+    Name,  // one of `choices`
+    InputPath,
+    OutputFile,
+    OutputFolder,
+    Text,
+    IntegerList,
+    RealList,
+    NameList,
+};
+
+using JobField = std::variant<bool JobSettings::*, int JobSettings::*, std::int64_t JobSettings::*,
+                              float JobSettings::*, std::string JobSettings::*,
+                              std::vector<std::string> JobSettings::*,
+                              std::vector<int> JobSettings::*, std::vector<float> JobSettings::*>;
+
+struct JobOption {
+    const char* flag;   // "--soft-z-extent" (CLI11 form: "-o,--output"; "scene" for positionals)
+    unsigned commands;  // commandBit()s
+    ValueKind kind;
+    JobField field;
+    const char* help;
+    double lo = 0, hi = 0;  // numeric range, closed unless an end is marked open
+    bool loOpen = false, hiOpen = false;
+    bool odd = false;                  // integers: odd only
+    std::vector<std::string> choices;  // names
+    const char* statsKey = nullptr;    // key in stats.json's "options" (null: not recorded)
+
+    JobOption(const char* flag_, unsigned commands_, ValueKind kind_, JobField field_,
+              const char* help_)
+        : flag(flag_), commands(commands_), kind(kind_), field(field_), help(help_) {}
+    // The table's rows are written as JobOption(...).in(lo, hi).recordedAs("key") and so on.
+    JobOption in(double lo_, double hi_) && {
+        lo = lo_;
+        hi = hi_;
+        return std::move(*this);
+    }
+    JobOption openBelow() && {
+        loOpen = true;
+        return std::move(*this);
+    }
+    JobOption openAbove() && {
+        hiOpen = true;
+        return std::move(*this);
+    }
+    JobOption oddOnly() && {
+        odd = true;
+        return std::move(*this);
+    }
+    JobOption oneOf(std::vector<std::string> names) && {
+        choices = std::move(names);
+        return std::move(*this);
+    }
+    JobOption recordedAs(const char* key) && {
+        statsKey = key;
+        return std::move(*this);
+    }
+
+    bool takes(Command c) const { return commands & commandBit(c); }
+    bool positional() const { return flag[0] != '-'; }
+    std::string longName() const;  // "--output" of "-o,--output"
+};
+
+const std::vector<JobOption>& jobOptions();
+
+// Checks `text` by the row's rule and sets its field; throws InputError("command line", flag, ...).
+void applyJobOption(const JobOption& option, const std::string& text, JobSettings& settings);
+
+// The field's value as text (lists comma-separated), for stats.json and the help's defaults.
+std::string jobOptionValue(const JobOption& option, const JobSettings& settings);
+
+// A Markdown page of every command's options (docs/OPTIONS.md).
+std::string jobOptionsMarkdown();
+
+}  // namespace patchsim

@@ -1,0 +1,161 @@
+// Bad input on the command line, end to end: every refusal is one line naming the option, exit
+// code 2, and nothing written anywhere (not in the folder the command ran in, not in /).
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+
+#include "tests/cli_runner.h"
+#include "tests/test_paths.h"
+
+namespace {
+
+namespace fs = std::filesystem;
+using patchsim::test::CommandResult;
+using patchsim::test::listTree;
+using patchsim::test::readFile;
+using patchsim::test::run;
+using patchsim::test::sourcePath;
+using patchsim::test::writeFile;
+
+// A fresh, empty folder to run a command in.
+std::string emptyFolder(const std::string& name) {
+    const std::string dir = patchsim::test::temporaryDirectory() + "/" + name;
+    fs::remove_all(dir);
+    fs::create_directories(dir);
+    return dir;
+}
+
+std::size_t lines(const std::string& text) {
+    return std::size_t(std::count(text.begin(), text.end(), '\n'));
+}
+
+// Refused with exit 2 and one line holding `message`; the folder it ran in stays empty.
+void expectRefused(const std::string& args, const std::string& message) {
+    const std::string cwd = emptyFolder("cwd");
+    const CommandResult r = run(args, cwd);
+    EXPECT_EQ(r.exitCode, 2) << args << "\n" << r.output;
+    EXPECT_NE(r.output.find(message), std::string::npos) << args << "\n" << r.output;
+    EXPECT_EQ(lines(r.output), 1u) << args << "\n" << r.output;
+    EXPECT_EQ(r.output.rfind("patchsim: error: ", 0), 0u) << r.output;
+    EXPECT_TRUE(listTree(cwd).empty()) << args << " wrote into the folder it ran in";
+}
+
+TEST(CliBadInput, EmptyPathsAreRefusedNotTakenForAFolder) {
+    const std::string scene = sourcePath("scenes/static.json") + " --no-progress";
+    const std::string grid = writeFile("grid.json", R"({"rasterizer": {"tile_size": [8]},
+        "film": {"width": 8, "height": 8, "spp": 1}})");
+    expectRefused("render " + scene + " -o ''", "command line: --output: empty folder name");
+    expectRefused("render " + scene + " -o out --trace ''", "--trace: empty output file name");
+    expectRefused("render " + scene + " -o out --hw ''", "--hw: empty file name");
+    expectRefused("render '' -o out", "command line: scene: empty file name");
+    expectRefused("sweep " + scene + " --methods patch --spp 1 -o ''",
+                  "--output: empty folder name");
+    const std::string cage = sourcePath("scenes/static.json");
+    expectRefused("tessellate " + cage + " -o ''", "--output: empty output file name");
+    expectRefused("tessellate " + cage + " -o x.obj --stats ''", "--stats: empty output file");
+    expectRefused("explore " + scene + " --grid " + grid + " -o ''", "--output: empty output");
+    expectRefused("explore " + scene + " --grid ''", "--grid: empty file name");
+    expectRefused("explore " + scene + " --grid " + grid + " -o x.csv --plots ''",
+                  "--plots: empty folder name");
+    expectRefused("verify-tiles --replay ''", "--replay: empty value");
+    expectRefused("verify-tiles --cases 10 --csv ''", "--csv: empty output file name");
+    expectRefused("verify-tiles --cases 10 --summary ''", "--summary: empty output file name");
+    expectRefused("info ''", "scene: empty file name");
+}
+
+TEST(CliBadInput, NonFiniteNumbersAreRefused) {
+    const std::string render = "render -q --no-progress -o out --method postprocess ";
+    for (const char* value : {"nan", "-nan", "inf", "-inf"}) {
+        expectRefused(render + "--soft-z-extent " + value,
+                      std::string("--soft-z-extent: expected a finite number in [1e-06, 1000000], "
+                                  "found '") +
+                          value + "'");
+        expectRefused(render + "--edge-threshold " + value, "--edge-threshold: expected a finite");
+        expectRefused(std::string("tessellate -o x.obj --time ") + value,
+                      "--time: expected a finite number in [0, 1]");
+        expectRefused(std::string("sweep --spp 1 --blur 1,") + value, "--blur: expected a finite");
+    }
+}
+
+TEST(CliBadInput, MalformedListsNameTheOption) {
+    const std::string sweep = "sweep --no-progress -o out ";
+    expectRefused(sweep + "--spp 1,,4", "--spp: empty item in the list '1,,4'");
+    expectRefused(sweep + "--spp 1,4,", "--spp: empty item in the list '1,4,'");
+    expectRefused(sweep + "--spp ''", "--spp: needs at least one value");
+    expectRefused(sweep + "--spp 4,4", "--spp: the list '4,4' repeats an item");
+    expectRefused(sweep + "--methods patch,,interval", "--methods: empty item");
+    expectRefused(sweep + "--methods patch,patch", "--methods: the list 'patch,patch' repeats");
+    expectRefused(sweep + "--blur 1,,2", "--blur: empty item");
+    expectRefused(sweep + "--blur 2,2.0", "--blur: the list '2,2.0' repeats");
+    const std::string scene = sourcePath("scenes/static.json");
+    expectRefused(sweep + scene + " " + scene, "scenes: names '" + scene + "' twice");
+}
+
+// CLI11's own errors (an unknown option, a missing required one, an extra argument) are one
+// line in the project's format too.
+TEST(CliBadInput, ParserErrorsAreOneLine) {
+    expectRefused("info --frobnicate", "--frobnicate");
+    expectRefused("explore", "--grid");
+    expectRefused("render a.json b.json", "b.json");
+    expectRefused("render --method", "--method");
+    expectRefused("render --pp-samples 4", "--pp-samples: 4 is even; it must be odd");
+}
+
+TEST(CliBadInput, SubcommandHelpHasItsOwnFooter) {
+    CommandResult r = run("render --help");
+    EXPECT_EQ(r.exitCode, 0);
+    EXPECT_EQ(r.output.find("With no subcommand"), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("--soft-z-extent"), std::string::npos) << r.output;
+    r = run("--help");
+    EXPECT_NE(r.output.find("With no subcommand"), std::string::npos) << r.output;
+}
+
+TEST(CliBadInput, HeatMapsNeedAMethodThatCountsPerPixel) {
+    expectRefused("render -q --no-progress -o out --heatmaps --method reference",
+                  "--heatmaps: the reference method does not count its work per pixel");
+    expectRefused("render -q --no-progress -o out --heatmaps --method tfragment",
+                  "--heatmaps: the tfragment method");
+}
+
+// Commands that do not split their work over ranks would each run it whole, racing on the same
+// files: refused under mpirun, with one message.
+TEST(CliBadInput, CommandsThatDoNotSplitAreRefusedUnderMpi) {
+    if (std::system("command -v mpirun > /dev/null 2>&1") != 0) GTEST_SKIP() << "no mpirun";
+    const std::string mpi =
+        "ASAN_OPTIONS=detect_leaks=0 OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 "
+        "timeout 120 mpirun -np 2 --oversubscribe -x ASAN_OPTIONS " +
+        std::string(PATCHSIM_BINARY) + " ";
+    const std::string cwd = emptyFolder("mpi-cwd");
+    for (const std::string& args :
+         {std::string("sweep --methods patch --spp 1 -o sweep"), std::string("tessellate -o t.obj"),
+          std::string("verify-tiles --cases 10 --csv c.csv")}) {
+        const std::string log = patchsim::test::temporaryDirectory() + "/mpi.log";
+        const int status =
+            std::system(("cd " + cwd + " && " + mpi + args + " > " + log + " 2>&1").c_str());
+        ASSERT_TRUE(WIFEXITED(status));
+        EXPECT_EQ(WEXITSTATUS(status), 2) << args << "\n" << readFile(log);
+        const std::string out = readFile(log);
+        EXPECT_NE(out.find("does not run under mpirun (2 ranks)"), std::string::npos) << out;
+        EXPECT_EQ(out.find("does not run"), out.rfind("does not run")) << "said twice:\n" << out;
+        EXPECT_TRUE(listTree(cwd).empty()) << args;
+    }
+}
+
+TEST(CliBadInput, RenderTakesFilmOverrides) {
+    const std::string dir = patchsim::test::temporaryDirectory() + "/film-overrides";
+    const CommandResult r = run("render -q --no-progress --spp 2 --width 40 --height 30 -o " + dir);
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    const std::string stats = readFile(dir + "/stats.json");
+    EXPECT_NE(stats.find("\"width\": \"40\""), std::string::npos) << stats;
+    EXPECT_NE(stats.find("\"height\": \"30\""), std::string::npos) << stats;
+    EXPECT_NE(stats.find("\"spp\": \"2\""), std::string::npos) << stats;
+    // Every option of the job and of the rasterizer, from the tables.
+    EXPECT_NE(stats.find("\"soft_z_extent\": \"0.0500000007\""), std::string::npos) << stats;
+    EXPECT_NE(stats.find("\"rasterizer.interior_time_refinement\": \"true\""), std::string::npos);
+    EXPECT_NE(stats.find("\"rasterizer.max_triangles_per_group\": \"0\""), std::string::npos);
+    expectRefused("render -q --no-progress -o out --spp 4096 --width 16384 --height 16384",
+                  "command line: --spp: film of 16384x16384 at 4096 spp needs");
+}
+
+}  // namespace
