@@ -55,7 +55,8 @@ struct TFragmentWork {
     std::int64_t bvhNodes = 0, rayNodeTests = 0, capsuleTests = 0, collected = 0,
                  collectOverflow = 0, lensRays = 0, motionSamples = 0, sphereTests = 0,
                  cubeTests = 0;
-    void flush() const;  // into the TF/ counters
+    std::int64_t visibilitySamples = 0;  // opaque hits nearer than the motion sample's nearest
+    void flush() const;                  // into the TF/ counters
 };
 
 struct TFragmentSet {

@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <iostream>
 #include <map>
 
@@ -103,6 +104,33 @@ TEST(TFragment, ImagesAndCountersDoNotDependOnTheThreadCount) {
     }
     EXPECT_EQ(image[0], image[1]);
     EXPECT_EQ(counts[0], counts[1]);
+}
+
+// Its sample test efficiency is its own (docs/COUNTERS.md), counted as the bounding methods count
+// theirs: samples tested are the motion samples' tests against t-fragments (circumspheres),
+// visibility samples the tests that found a hit nearer than the motion sample's nearest so far.
+// Both tracings count it; the render's STE and the sweep's totals are it.
+TEST(TFragment, SampleTestEfficiencyIsVisibilitySamplesOverSamplesTested) {
+    const SceneDesc scene = small("scenes/motion.json", 64, 48, 2);
+    for (bool timeSampled : {false, true}) {
+        const Traced t = render(scene, 4, timeSampled);
+        const CounterValues& c = t.counters;
+        const double ste = c.ratio(sampleTestEfficiencyOf(VisibilityMethod::TFragment));
+        const VisibilityTotals totals = visibilityTotals(c, VisibilityMethod::TFragment);
+        EXPECT_GT(ste, 0.0) << (timeSampled ? "time-sampled" : "decoupled");
+        EXPECT_LT(ste, 1.0);
+        EXPECT_EQ(totals.sampleTestEfficiency, ste);
+        EXPECT_EQ(totals.samplesTested, c.byName("TF/Sphere tests"));
+        EXPECT_EQ(totals.rays, c.byName("TF/Lens rays"));
+        EXPECT_EQ(totals.visibilitySamples, c.byName("TF/Visibility samples"));
+        EXPECT_DOUBLE_EQ(ste, double(totals.visibilitySamples) / double(totals.samplesTested));
+        // Every first motion sample that hits found its nearest hit once at least.
+        const auto records = t.result.visibility->records();
+        const auto hits = std::count_if(records.begin(), records.end(),
+                                        [](const VisibilityRecord& r) { return r.hit(); });
+        EXPECT_GT(hits, 0);
+        EXPECT_GE(totals.visibilitySamples, hits);
+    }
 }
 
 // In hybrid.json the bar and the torus overlap at shutter close in front of the static wall, so

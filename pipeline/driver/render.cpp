@@ -228,6 +228,7 @@ Visibility runVisibility(const SceneDesc& scene, const RenderOptions& options,
 const RatioCounter& sampleTestEfficiencyOf(VisibilityMethod method) {
     if (usesPatchRasterizer(method)) return sampleTestEfficiency();
     if (method == VisibilityMethod::Reference) return referenceSampleTestEfficiency();
+    if (method == VisibilityMethod::TFragment) return tfragmentSampleTestEfficiency();
     return boundingSampleTestEfficiency(boundingOf(method));
 }
 
@@ -235,9 +236,11 @@ VisibilityTotals visibilityTotals(const CounterValues& v, VisibilityMethod metho
     VisibilityTotals t;
     t.sampleTestEfficiency = v.ratio(sampleTestEfficiencyOf(method));
     if (method == VisibilityMethod::TFragment) {
-        // One lens ray per sample; its motion samples are what it resolves.
-        const std::int64_t rays = v.byName("TF/Lens rays");
-        return {rays, rays, v.byName("TF/Motion samples"), 0.0};
+        // Its samples tested are its motion samples' t-fragment tests, its rays the lens rays.
+        const RatioCounter& ste = tfragmentSampleTestEfficiency();
+        t = {v[ste.denominator], v.byName("TF/Lens rays"), v[ste.numerator],
+             t.sampleTestEfficiency};
+        return t;
     }
     if (usesPatchRasterizer(method)) {
         const RasterCounters& c = rasterCounters();
