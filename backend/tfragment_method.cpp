@@ -14,7 +14,7 @@ namespace {
     X(rasterizedFragments, "TF/Rasterized fragments", "fragments",                                \
       "Fragments of the two rasterization passes at t = 1 (depth layers, then generation)")       \
     X(disoccludedPixels, "TF/Disoccluded pixels", "pixels",                                       \
-      "Pixels the disocclusion map culls against the second depth layer")                         \
+      "Pixels the disocclusion map marks (culled behind their first layer)")                      \
     X(generatedOpaque, "TF/Opaque t-fragments", "t-fragments", "Opaque t-fragments generated")    \
     X(generatedTransparent, "TF/Transparent t-fragments", "t-fragments",                          \
       "Transparent t-fragments generated")                                                        \
