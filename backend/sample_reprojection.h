@@ -1,6 +1,6 @@
 #pragma once
-// Motion blur by sample reprojection (Taylor, "Fast motion blur through sample reprojection",
-// ../shared/seeds/taylor-motion-blur-sample-reprojection.md): the `reprojection` method.
+// Motion blur by sample reprojection (Taylor, "Fast motion blur through sample reprojection"):
+// the `reprojection` method.
 //
 // Two sharp frames, at shutter open and close (frames n-1 and n, each through a pinhole with its
 // own camera): every sample's world position is reprojected into cameras interpolated across the
