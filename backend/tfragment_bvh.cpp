@@ -203,6 +203,7 @@ std::int64_t TFragmentBvh::nearestAt(const Ray& ray, float t, float& lambda,
         }
         float hit;
         if (hitsTFragmentAt(r, (*fragments_)[node.fragment], t, hit, work) && hit < lambda) {
+            ++work.visibilitySamples;
             lambda = hit;
             r.lambdaMax = hit;
             best = node.fragment;

@@ -80,6 +80,9 @@ Vec3 pointAt(const MovingMesh& mesh, std::uint32_t tri, float b1, float b2, bool
     return (1.0f - b1 - b2) * p[v[0]] + b1 * p[v[1]] + b2 * p[v[2]];
 }
 
+// Disocclusion map flags: what may show behind a pixel's first layer during the frame.
+constexpr std::uint8_t kMotionEdge = 1, kDepthEdge = 2;
+
 // The motion disocclusion map OR'ed with depth edges.
 std::vector<std::uint8_t> disocclusionMap(const Camera& camera, const GuardRaster& r,
                                           const std::vector<float>& depth1,
@@ -100,7 +103,7 @@ std::vector<std::uint8_t> disocclusionMap(const Camera& camera, const GuardRaste
                 const int radius = int(std::ceil(std::min(spread, float(r.width + r.height))));
                 for (int dy = -radius; dy <= radius; ++dy)
                     for (int dx = -radius; dx <= radius; ++dx)
-                        if (r.contains(x + dx, y + dy)) map[r.index(x + dx, y + dy)] = 1;
+                        if (r.contains(x + dx, y + dy)) map[r.index(x + dx, y + dy)] |= kMotionEdge;
             }
             if (!defocus || !std::isfinite(depth1[i]) || x == x0 || y == y0 || x == x1 - 1 ||
                 y == y1 - 1)
@@ -112,10 +115,29 @@ std::vector<std::uint8_t> disocclusionMap(const Camera& camera, const GuardRaste
             };
             const float laplacian =
                 d(x + 1, y) + d(x - 1, y) + d(x, y + 1) + d(x, y - 1) - 4 * d(x, y);
-            if (std::abs(laplacian) / d(x, y) > o.laplacianThreshold) map[i] = 1;
+            if (std::abs(laplacian) / d(x, y) > o.laplacianThreshold) map[i] |= kDepthEdge;
         }
     }
     return map;
+}
+
+// Whether the triangle stays put over the frame (camera space, so a moving camera moves it).
+bool stays(const MovingMesh& mesh, std::uint32_t tri) {
+    const std::uint32_t* v = &mesh.indices[3 * std::size_t(tri)];
+    return std::all_of(v, v + 3,
+                       [&](std::uint32_t k) { return mesh.position0[k] == mesh.position1[k]; });
+}
+
+// The depth behind which nothing seen at the pixel during the frame lies; `still` is the depth of
+// its nearest surface that stays put.
+float cullingDepth(std::uint8_t flags, float depth1, float depth2, float still) {
+    // Lens rays look past a depth edge to the second layer (the paper's limited disocclusion).
+    const float lens = flags & kDepthEdge ? depth2 : depth1;
+    // Motion can uncover anything behind surfaces that move; only one that stays put hides what
+    // is behind it for the whole frame. The paper's second layer is no such bound: where two
+    // moving objects overlap at t = 1, the static wall behind both is the third layer.
+    const float motion = flags & kMotionEdge ? still : depth1;
+    return std::max(lens, motion);
 }
 
 }  // namespace
@@ -127,17 +149,20 @@ TFragmentSet generateTFragments(const ShadingContext& c, bool defocus, const TFr
                         camera.height() + 2 * o.guardBand};
     const std::size_t n = std::size_t(r.width) * std::size_t(r.height);
     const float inf = std::numeric_limits<float>::infinity();
-    std::vector<float> depth1(n, inf), depth2(n, inf);
+    std::vector<float> depth1(n, inf), depth2(n, inf), still(n, inf);
     std::vector<RasterFragment> first(n, RasterFragment{inf, -1, 0, 0, 0});
     const std::vector<MovingMesh>& meshes = *c.meshes;
     // Pass 1: the opaque surfaces' two nearest depth layers (a second layer is another surface:
-    // farther by more than a relative 1e-3, so a shared edge is not a layer).
+    // farther by more than a relative 1e-3, so a shared edge is not a layer), and the nearest one
+    // that stays put.
     for (const MovingMesh& m : meshes) {
         if (!m.opaque) continue;
         for (std::uint32_t t = 0; t < m.triangleCount(); ++t) {
+            const bool stationary = stays(m, t);
             rasterizeTriangle(camera, m, t, r, true, [&](int x, int y, const RasterFragment& f) {
                 ++work.rasterizedFragments;
                 const std::size_t i = r.index(x, y);
+                if (stationary) still[i] = std::min(still[i], f.depth);
                 if (f.depth < depth1[i]) {
                     if (depth1[i] > f.depth * 1.001f) depth2[i] = depth1[i];
                     depth1[i] = f.depth;
@@ -162,8 +187,8 @@ TFragmentSet generateTFragments(const ShadingContext& c, bool defocus, const TFr
     const std::vector<std::uint8_t> map = disocclusionMap(camera, r, depth1, velocity, defocus, o);
     std::vector<float> culling(n);
     for (std::size_t i = 0; i < n; ++i) {
-        culling[i] = map[i] ? depth2[i] : depth1[i];
-        work.disoccludedPixels += map[i];
+        culling[i] = cullingDepth(map[i], depth1[i], depth2[i], still[i]);
+        work.disoccludedPixels += map[i] != 0;
     }
     // Pass 2: every fragment in front of the culling depth becomes a t-fragment.
     TFragmentSet set;

@@ -13,12 +13,16 @@
 //
 // Generation: the opaque triangles facing the camera are rasterized at t = 1 (pixel centres,
 // perspective-correct) into two depth layers, so the second layer is the next surface behind, not
-// a closed object's own far side; the first layer's velocity field gives a motion disocclusion map
-// (a pixel whose velocity differs from its right or upper neighbour's by d pixels marks a square of
-// radius d around it), OR'ed with thresholded depth Laplacians when the lens blurs; marked pixels
-// cull against the second layer, the others against the first. A second rasterization keeps every
-// fragment that passes that culling depth (opaque ones facing the camera; transparent ones both
-// sides). The raster extends past the screen by a guard band.
+// a closed object's own far side, and the nearest surface that stays put over the frame is noted;
+// the first layer's velocity field gives a motion disocclusion map (a pixel whose velocity differs
+// from its right or upper neighbour's by d pixels marks a square of radius d around it), OR'ed with
+// thresholded depth Laplacians when the lens blurs. Unmarked pixels cull against the first layer;
+// depth edges against the second (what lens rays see past the edge); motion marks against the
+// nearest surface that stays put, or not at all: unlike the paper's second layer, which may itself
+// move (two moving objects overlapping at t = 1 put the static wall behind them third), only a
+// surface that covers the pixel all frame hides what is behind it all frame. A second
+// rasterization keeps every fragment that passes that culling depth (opaque ones facing the
+// camera; transparent ones both sides). The raster extends past the screen by a guard band.
 
 #include <cstdint>
 #include <vector>
@@ -51,7 +55,8 @@ struct TFragmentWork {
     std::int64_t bvhNodes = 0, rayNodeTests = 0, capsuleTests = 0, collected = 0,
                  collectOverflow = 0, lensRays = 0, motionSamples = 0, sphereTests = 0,
                  cubeTests = 0;
-    void flush() const;  // into the TF/ counters
+    std::int64_t visibilitySamples = 0;  // opaque hits nearer than the motion sample's nearest
+    void flush() const;                  // into the TF/ counters
 };
 
 struct TFragmentSet {

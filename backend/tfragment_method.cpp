@@ -14,7 +14,7 @@ namespace {
     X(rasterizedFragments, "TF/Rasterized fragments", "fragments",                                \
       "Fragments of the two rasterization passes at t = 1 (depth layers, then generation)")       \
     X(disoccludedPixels, "TF/Disoccluded pixels", "pixels",                                       \
-      "Pixels the disocclusion map culls against the second depth layer")                         \
+      "Pixels the disocclusion map marks (culled behind their first layer)")                      \
     X(generatedOpaque, "TF/Opaque t-fragments", "t-fragments", "Opaque t-fragments generated")    \
     X(generatedTransparent, "TF/Transparent t-fragments", "t-fragments",                          \
       "Transparent t-fragments generated")                                                        \
@@ -31,7 +31,9 @@ namespace {
       "Time samples taken on collected t-fragments")                                              \
     X(sphereTests, "TF/Sphere tests", "tests",                                                    \
       "Ray against a t-fragment's circumsphere at a time")                                        \
-    X(cubeTests, "TF/Cube tests", "tests", "Ray against a t-fragment's pixel cube at a time")
+    X(cubeTests, "TF/Cube tests", "tests", "Ray against a t-fragment's pixel cube at a time")     \
+    X(visibilitySamples, "TF/Visibility samples", "samples",                                      \
+      "Opaque t-fragment hits nearer than the motion sample's nearest so far")
 
 #define PATCHSIM_TF_COUNTER(field, name, unit, definition) \
     const Counter tf_##field{name, unit, definition};
@@ -58,6 +60,14 @@ Vec3 shade(const ShadingContext& c, const TFragment& f, float lambda, const Ray&
 }
 
 }  // namespace
+
+const RatioCounter& tfragmentSampleTestEfficiency() {
+    // Tests are the sphere tests: one per motion sample and t-fragment it is tested against.
+    static const RatioCounter ratio{"TF/Sample test efficiency",
+                                    "Visibility samples per sample tested (sphere test)",
+                                    tf_visibilitySamples, tf_sphereTests};
+    return ratio;
+}
 
 void TFragmentWork::flush() const {
 #define PATCHSIM_TF_FLUSH(field, name, unit, definition) tf_##field += field;
@@ -106,6 +116,7 @@ std::vector<float> renderTFragments(const ShadingContext& c, const SampleGenerat
                             float lambda;
                             if (hitsTFragmentAt(ray, set.opaque[k], t, lambda, rw) &&
                                 (lambda < nearest || (lambda == nearest && k < front))) {
+                                ++rw.visibilitySamples;
                                 nearest = lambda;
                                 front = k;
                             }

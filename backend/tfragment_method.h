@@ -15,6 +15,7 @@
 
 #include "backend/tfragment_bvh.h"
 #include "backend/tfragment_generation.h"
+#include "pipeline/core/counters.h"
 #include "pipeline/core/samples.h"
 #include "rasterizer/visibility_buffer.h"
 
@@ -26,5 +27,8 @@ std::vector<float> renderTFragments(const ShadingContext& context, const SampleG
                                     const LensModel& lens, const TFragmentOptions& options,
                                     bool timeSampled, int threads, VisibilityBuffer& visibility,
                                     TFragmentWork& work);
+
+// TF/Visibility samples over TF/Sphere tests (docs/COUNTERS.md).
+const RatioCounter& tfragmentSampleTestEfficiency();
 
 }  // namespace patchsim

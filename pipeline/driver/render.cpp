@@ -228,6 +228,7 @@ Visibility runVisibility(const SceneDesc& scene, const RenderOptions& options,
 const RatioCounter& sampleTestEfficiencyOf(VisibilityMethod method) {
     if (usesPatchRasterizer(method)) return sampleTestEfficiency();
     if (method == VisibilityMethod::Reference) return referenceSampleTestEfficiency();
+    if (method == VisibilityMethod::TFragment) return tfragmentSampleTestEfficiency();
     return boundingSampleTestEfficiency(boundingOf(method));
 }
 
@@ -235,9 +236,11 @@ VisibilityTotals visibilityTotals(const CounterValues& v, VisibilityMethod metho
     VisibilityTotals t;
     t.sampleTestEfficiency = v.ratio(sampleTestEfficiencyOf(method));
     if (method == VisibilityMethod::TFragment) {
-        // One lens ray per sample; its motion samples are what it resolves.
-        const std::int64_t rays = v.byName("TF/Lens rays");
-        return {rays, rays, v.byName("TF/Motion samples"), 0.0};
+        // Its samples tested are its motion samples' t-fragment tests, its rays the lens rays.
+        const RatioCounter& ste = tfragmentSampleTestEfficiency();
+        t = {v[ste.denominator], v.byName("TF/Lens rays"), v[ste.numerator],
+             t.sampleTestEfficiency};
+        return t;
     }
     if (usesPatchRasterizer(method)) {
         const RasterCounters& c = rasterCounters();
@@ -409,14 +412,19 @@ RenderResult renderScene(const SceneDesc& scene, const RenderOptions& options) {
     const SampleGenerator closeSamples(scene.film.seed, scene.film.samplesPerPixel, sampled,
                                        scene.film.sampler, 1.0f);
     std::unique_ptr<VisibilityBuffer> closeFrame;
+    std::unique_ptr<TransparentLayers> closeLayers;
     if (reprojection) {
         closeFrame = std::make_unique<VisibilityBuffer>(scene.film.width, scene.film.height,
                                                         scene.film.samplesPerPixel,
                                                         camera.farPlane(), workers);
+        if (result.transparent)
+            closeLayers = std::make_unique<TransparentLayers>(closeFrame->records().size(),
+                                                              options.maxLayers);
         RenderOptions whole = options;
         whole.share = {};
-        Visibility second = runVisibility(scene, whole, fe, camera, closeSamples, rasterized,
-                                          {closeFrame.get(), nullptr, nullptr, 0}, workers);
+        Visibility second =
+            runVisibility(scene, whole, fe, camera, closeSamples, rasterized,
+                          {closeFrame.get(), closeLayers.get(), nullptr, 0}, workers);
         for (const RasterWork& w : second.tiles) w.flush();
         for (std::size_t i = 0; i < result.patches; ++i) {
             visibility.hierarchies[i].add(second.hierarchies[i]);
@@ -453,16 +461,22 @@ RenderResult renderScene(const SceneDesc& scene, const RenderOptions& options) {
         result.frame.color =
             filterSamples(tfragmentColors, *result.visibility, samples, options.resolve, workers);
     } else if (reprojection && result.effects.motion) {
+        // The opaque hits' colours: the transparent layers are reprojected as parts of their own.
         const std::vector<float> openColors = shadeSamples(context, *result.visibility, nullptr,
                                                            options.resolve.shadingRate, workers);
         const std::vector<float> closeColors =
             shadeSamples(context, *closeFrame, nullptr, options.resolve.shadingRate, workers);
+        // Holes take the blend of the two frames as the resolve shows them, layers and all.
         const Image closePixels =
-            filterSamples(closeColors, *closeFrame, closeSamples, options.resolve, workers);
+            filterSamples(closeLayers ? shadeSamples(context, *closeFrame, closeLayers.get(),
+                                                     options.resolve.shadingRate, workers)
+                                      : closeColors,
+                          *closeFrame, closeSamples, options.resolve, workers);
         result.frame.color = reprojectSamples(
-            context, {result.visibility.get(), &openColors, &samples, 0.0f},
-            {closeFrame.get(), &closeColors, &closeSamples, 1.0f}, result.frame.color, closePixels,
-            options.reprojection, approximate.reprojection);
+            context,
+            {result.visibility.get(), result.transparent.get(), &openColors, &samples, 0.0f},
+            {closeFrame.get(), closeLayers.get(), &closeColors, &closeSamples, 1.0f},
+            result.frame.color, closePixels, options.reprojection, approximate.reprojection);
     } else if (sharpFrame && result.effects.motion) {
         PostprocessOptions o = options.postprocess;
         o.seed = scene.film.seed;
