@@ -4,7 +4,8 @@
 // hides behind moving objects: the `hybrid` visibility method.
 //
 // Ray mask, on the mid-shutter pinhole frame (its colour, depth, motion, and per pixel the object
-// and camera-space normal of its first sample):
+// most of its opaque hits show, with that object's camera-space normal: the same hits as the
+// depth and motion, so a silhouette pixel whose first sample misses is still its object's):
 //   1. a moving pixel is a candidate when the pixel at its position plus its exposure's motion
 //      shows another object (m_n != m_t) deeper by more than SOFT_Z_EXTENT (z_n - z_t > extent):
 //      it is a foreground edge the motion uncovers;
@@ -14,9 +15,10 @@
 //   3. range check: a moving pixel is masked when one of S samples along its velocity (the
 //      gather's span) is an edge.
 // Ray reveal: for each masked pixel, a ray through its centre at mid-shutter, and a second ray
-// after the first hit, to the nearest surface of a different object behind it (one background
-// layer), shaded at mid-shutter. The gather then takes a masked pixel's background contributions
-// from that colour instead of from its neighbours.
+// after the first hit (from the pixel's depth, skipping the pixel's object: its own far side is
+// not a background), to the nearest surface of a different object behind it (one background
+// layer), shaded at mid-shutter. Where nothing else is behind, nothing is revealed. The gather then
+// takes a masked pixel's background contributions from that colour instead of from its neighbours.
 
 #include <cstdint>
 
