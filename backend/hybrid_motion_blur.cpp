@@ -27,7 +27,11 @@ const Counter hyTriangleTests{"HY/Ray-triangle tests", "tests",
 const Counter hyRevealed{"HY/Revealed pixels", "pixels",
                          "Masked pixels whose second ray found another object behind"};
 
-// Per pixel, from its first sample: the object it shows (-1: none) and its camera-space normal.
+// Per pixel, of its opaque hits (as the sharp frame's depth and motion are): the object most of
+// them show (-1: none) and that object's camera-space normal at its first sample. The object must
+// be the hits' and not the first sample's: a silhouette pixel whose first sample misses still has
+// the depth and motion of the object its other samples hit, and a ray that skipped "no object"
+// from there would find that object's own far side behind it.
 struct GBuffer {
     int width = 0, height = 0;
     std::vector<int> object;
@@ -38,6 +42,35 @@ struct GBuffer {
     }
 };
 
+int objectOf(const ShadingContext& c, const VisibilityRecord& r) {
+    return r.hit() ? (*c.patches)[std::size_t(r.patch)].object : -1;
+}
+
+// The object of most of the pixel's hits (Boyer-Moore vote over its samples; without a majority,
+// one of the objects hit), -1 when none is hit.
+int dominantObject(const ShadingContext& c, const VisibilityBuffer& vis, int x, int y) {
+    int candidate = -1, votes = 0;
+    for (int s = 0; s < vis.samplesPerPixel(); ++s) {
+        const int object = objectOf(c, vis.at(x, y, s));
+        if (object < 0) continue;
+        if (votes == 0) candidate = object;
+        votes += object == candidate ? 1 : -1;
+    }
+    return candidate;
+}
+
+Vec3 cameraNormal(const ShadingContext& c, const VisibilityBuffer& vis, int x, int y, int object,
+                  const Mat4& view) {
+    for (int s = 0; s < vis.samplesPerPixel(); ++s) {
+        const VisibilityRecord& r = vis.at(x, y, s);
+        if (objectOf(c, r) != object) continue;
+        const Vec3 normal = Vec3(view * Vec4(interpolateAttributes(c, r).normal, 0.0f));
+        const float len = glm::length(normal);
+        return len > 0 ? normal / len : Vec3(0);
+    }
+    return Vec3(0);
+}
+
 GBuffer gBuffer(const ShadingContext& c, const ResolvedFrame& sharp, const VisibilityBuffer& vis) {
     GBuffer g{vis.width(), vis.height(), {}, {}, {}};
     const std::size_t n = std::size_t(g.width) * std::size_t(g.height);
@@ -47,14 +80,10 @@ GBuffer gBuffer(const ShadingContext& c, const ResolvedFrame& sharp, const Visib
     const Mat4 view = c.camera->worldToCameraAt(0.5f);
     for (int y = 0; y < g.height; ++y) {
         for (int x = 0; x < g.width; ++x) {
-            const VisibilityRecord& r = vis.at(x, y, 0);
             const std::size_t i = g.index(x, y);
             if (sharp.depth[i] > 0) g.depth[i] = sharp.depth[i];
-            if (!r.hit()) continue;
-            g.object[i] = (*c.patches)[std::size_t(r.patch)].object;
-            const Vec3 normal = Vec3(view * Vec4(interpolateAttributes(c, r).normal, 0.0f));
-            const float len = glm::length(normal);
-            g.normal[i] = len > 0 ? normal / len : Vec3(0);
+            g.object[i] = dominantObject(c, vis, x, y);
+            if (g.object[i] >= 0) g.normal[i] = cameraNormal(c, vis, x, y, g.object[i], view);
         }
     }
     return g;

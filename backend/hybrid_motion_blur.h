@@ -5,7 +5,8 @@
 // hides behind moving objects: the `hybrid` visibility method.
 //
 // Ray mask, on the mid-shutter pinhole frame (its colour, depth, motion, and per pixel the object
-// and camera-space normal of its first sample):
+// most of its opaque hits show, with that object's camera-space normal: the same hits as the
+// depth and motion, so a silhouette pixel whose first sample misses is still its object's):
 //   1. a moving pixel is a candidate when the pixel at its position plus its exposure's motion
 //      shows another object (m_n != m_t) deeper by more than SOFT_Z_EXTENT (z_n - z_t > extent):
 //      it is a foreground edge the motion uncovers;
@@ -15,9 +16,17 @@
 //   3. range check: a moving pixel is masked when one of S samples along its velocity (the
 //      gather's span) is an edge.
 // Ray reveal: for each masked pixel, a ray through its centre at mid-shutter, and a second ray
-// after the first hit, to the nearest surface of a different object behind it (one background
-// layer), shaded at mid-shutter. The gather then takes a masked pixel's background contributions
-// from that colour instead of from its neighbours.
+// after the first hit (from the pixel's depth, skipping the pixel's object: its own far side is
+// not a background), to the nearest surface of a different object behind it (one background
+// layer), shaded at mid-shutter. Where nothing else is behind, nothing is revealed.
+// Composite (reconstructMotionBlur with the revealed background): as the paper post-processes the
+// ray-revealed background and the rasterized colour and composites them, the gather here splits a
+// pixel's samples into the moving foreground, its coverage their share of the samples, and the
+// background, the revealed colour where rays found one; the result is blended with the plain
+// post-process by the share of the foreground whose background was revealed, so the mask's holes
+// (its range check samples the velocity and can step over a thin edge) and its border are blends,
+// not seams. The paper's optional extra weights in the mask (background x3, outer blur w_f x30)
+// are not applied: the coverage composite makes the inner and outer blur meet at the silhouette.
 
 #include <cstdint>
 

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 
 #include "pipeline/core/counters.h"
 #include "pipeline/core/samples.h"
@@ -78,6 +79,71 @@ std::vector<Vec2> neighbourMax(const Velocities& v, int k, int tilesX, int tiles
     return out;
 }
 
+// The hybrid's split of one target pixel's gather (with a revealed background), beside the
+// post-process's own sums. Coverage is counted, not weighted: a moving object covers the target
+// for about the share of the span (the S samples along the velocity) that lies on it, where the
+// filter's weights make it too opaque on both sides of its silhouette.
+class Composite {
+  public:
+    // The target itself, the span's centre sample, of weight `a`.
+    Composite(const RevealedBackground& r, std::size_t target, float a, Vec3 c)
+        : r_(r), target_(target), object_(r.object[target]), restWeight_(a), restSum_(a * c) {
+        if (object_ < 0) return;
+        addOwn(target, a, c);
+    }
+
+    // Span sample j of weight `a`, colour `c`, velocity `vs`, at `s` pixels, `z` as the gather's.
+    void add(std::size_t j, float a, Vec3 c, float z, float vs, float s) {
+        if (object_ >= 0 && r_.object[j] == object_) addOwn(j, a, c);
+        const float reaches = saturate(z) * cylinder(vs, s);  // in front, and moves over it
+        front_ += reaches;
+        frontRevealed_ += reaches * float(r_.found[j]);
+        frontWeight_ += reaches * a;
+        frontSum_ += reaches * a * c;
+        restWeight_ += (1.0f - reaches) * a;
+        restSum_ += (1.0f - reaches) * a * c;
+    }
+
+    // Inner blur, where rays revealed what is behind the target's object: its own samples over
+    // that background. Outer blur, where they revealed what is behind the objects moving over
+    // the target: those objects' samples over the rest of the gather. Either blended with the
+    // post-process's `pp` by the share of those samples whose background was revealed, so the
+    // ray mask's holes and edges are no seams; with no such sample, `pp` itself.
+    Vec3 blend(Vec3 pp, int samples) const {
+        if (ownRevealed_ > 0) {
+            const float coverage = float(own_) / float(samples);
+            const Vec3 behind =
+                r_.found[target_] ? r_.color[target_] : revealedSum_ / float(ownRevealed_);
+            const Vec3 hybrid = coverage * ownSum_ / ownWeight_ + (1.0f - coverage) * behind;
+            return pp + (float(ownRevealed_) / float(own_)) * (hybrid - pp);
+        }
+        if (frontRevealed_ > 0 && frontWeight_ > 0) {
+            const float coverage = std::min(1.0f, front_ / float(samples));
+            const Vec3 hybrid =
+                coverage * frontSum_ / frontWeight_ + (1.0f - coverage) * restSum_ / restWeight_;
+            return pp + (frontRevealed_ / front_) * (hybrid - pp);
+        }
+        return pp;
+    }
+
+  private:
+    void addOwn(std::size_t j, float a, Vec3 c) {
+        ++own_;
+        ownWeight_ += a;
+        ownSum_ += a * c;
+        if (!r_.found[j]) return;
+        ++ownRevealed_;
+        revealedSum_ += r_.color[j];
+    }
+
+    const RevealedBackground& r_;
+    std::size_t target_;
+    int object_;
+    int own_ = 0, ownRevealed_ = 0;
+    float ownWeight_ = 0, front_ = 0, frontRevealed_ = 0, frontWeight_ = 0, restWeight_;
+    Vec3 ownSum_{0}, revealedSum_{0}, frontSum_{0}, restSum_;
+};
+
 }  // namespace
 
 Vec2 pixelVelocity(const ResolvedFrame& f, std::size_t i, float k) {
@@ -113,14 +179,10 @@ Image reconstructMotionBlur(const ResolvedFrame& sharp, float farDepth, const Po
             ++work.blurredPixels;
             const float vt = glm::length(v.at(x, y)), zt = depth(x, y);
             const std::size_t target = std::size_t(y) * std::size_t(w) + std::size_t(x);
-            const bool behindKnown = revealed && revealed->found[target];
             float weight = 1.0f / std::max(vt, 1.0f);
             Vec3 sum = sharp.color.get(x, y) * weight;
-            // With a revealed background: the samples on the target's own object are its
-            // foreground, their share of the span its coverage, the rest the background behind it.
-            float ownWeight = weight;
-            Vec3 ownSum = sum;
-            int ownSamples = 1;
+            std::optional<Composite> composite;
+            if (revealed) composite.emplace(*revealed, target, weight, sharp.color.get(x, y));
             const std::uint64_t hash =
                 mix64(o.seed ^ mix64((std::uint64_t(x) << 32) | std::uint64_t(y)));
             const float jitter = float(hash >> 40) * (1.0f / 16777216.0f) - 0.5f;
@@ -139,22 +201,12 @@ Image reconstructMotionBlur(const ResolvedFrame& sharp, float farDepth, const Po
                 weight += a;
                 const Vec3 c = sharp.color.get(sx, sy);
                 sum += a * c;
-                if (behindKnown &&
-                    revealed->object[std::size_t(sy) * std::size_t(w) + std::size_t(sx)] ==
-                        revealed->object[target]) {
-                    ownWeight += a;
-                    ownSum += a * c;
-                    ++ownSamples;
-                }
+                if (composite)
+                    composite->add(std::size_t(sy) * std::size_t(w) + std::size_t(sx), a, c, z, vs,
+                                   s);
                 ++work.gatherSamples;
             }
-            if (!behindKnown) {
-                out.set(x, y, sum / weight);
-                continue;
-            }
-            const float coverage = float(ownSamples) / float(S);
-            out.set(x, y,
-                    coverage * ownSum / ownWeight + (1.0f - coverage) * revealed->color[target]);
+            out.set(x, y, composite ? composite->blend(sum / weight, S) : sum / weight);
         }
     }
     return out;

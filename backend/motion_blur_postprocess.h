@@ -53,9 +53,17 @@ struct RevealedBackground {
 };
 
 // The blurred colour of `sharp` (same size). `farDepth` stands in for the depth of pixels with no
-// hit. With `revealed`, a target pixel whose background was revealed is composited as its own
-// object's samples (weighted as above) over that background, the object's share of the gathered
-// samples being its coverage over the exposure.
+// hit. With `revealed` (the hybrid), a pixel is composited as foreground over background, the
+// foreground's share of the S gathered samples being its coverage over the exposure:
+//   inner blur, a pixel some of whose own object's samples have a revealed background: those
+//     samples (weighted as above) over the background revealed behind it (or, in a hole of the
+//     ray mask, the mean of its samples' revealed backgrounds);
+//   outer blur, a pixel with samples in front of it that move over it (saturate(z) times
+//     cylinder(v_sample, s)), some with a revealed background: those samples over the rest of
+//     the gather; the same coverage as the inner blur, so the two meet at the silhouette.
+// Either is blended with the post-process's colour by the share of those samples whose
+// background a ray revealed: the ray mask's holes and edges are no seams, and a pixel with no
+// such sample gets the post-process's colour, bit for bit.
 Image reconstructMotionBlur(const ResolvedFrame& sharp, float farDepth,
                             const PostprocessOptions& options, PostprocessWork& work,
                             const RevealedBackground* revealed = nullptr);

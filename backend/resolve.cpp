@@ -125,22 +125,63 @@ Vec3 shadeSample(const ShadingContext& c, const VisibilityBuffer& opaque,
     return blendLayers(c, front, *layers, index, n, color, rate, cache);
 }
 
-// One pixel's AOVs, accumulated sample by sample in sample order.
+// The surface whose colour weighs most in a sample with transparent layers: each layer in front
+// of the opaque hit `front` weighs its opacity times what the layers in front of it let through,
+// the opaque hit (or the background) what they all let through; ties go to the nearer. Null when
+// the background weighs most. Out of line for its sort buffer, as blendLayers.
+[[gnu::noinline]] const VisibilityRecord* dominantSurface(const ShadingContext& c,
+                                                          const VisibilityRecord& front,
+                                                          const TransparentLayers& layers,
+                                                          std::size_t index, int n) {
+    const VisibilityRecord* sorted[256];
+    int kept = 0;
+    for (int i = 0; i < n; ++i) {
+        const VisibilityRecord& f = layers.layers(index)[i].record;
+        if (front.hit() && !f.nearerThan(front)) continue;
+        sorted[kept++] = &f;
+    }
+    std::sort(sorted, sorted + kept, [](const VisibilityRecord* a, const VisibilityRecord* b) {
+        return a->nearerThan(*b);
+    });
+    const VisibilityRecord* best = nullptr;
+    float bestWeight = 0, transmittance = 1;
+    for (int i = 0; i < kept; ++i) {
+        const float opacity = surfaceOpacity(c, *sorted[i]);
+        if (transmittance * opacity > bestWeight) {
+            best = sorted[i];
+            bestWeight = transmittance * opacity;
+        }
+        transmittance *= 1.0f - opacity;
+    }
+    if (transmittance > bestWeight) return front.hit() ? &front : nullptr;
+    return best;
+}
+
+// One pixel's AOVs, accumulated sample by sample in sample order. Depth is the opaque hits'; the
+// motion is each sample's dominant surface's (dominantSurface: a transparent layer, when it
+// weighs most, gives its motion, as a filter with one velocity per pixel needs to blur it).
 struct PixelAovs {
     float depth = 0, motionX = 0, motionY = 0;
-    int hits = 0, covered = 0;
+    int hits = 0, covered = 0, surfaces = 0;  // surfaces: samples a surface dominates
 
     // Sample s; `front` is its opaque hit's attributes when they are at hand, else null.
     void add(const ShadingContext& c, const VisibilityBuffer& opaque,
              const TransparentLayers* transparent, int x, int y, int s,
              const SurfaceAttributes* front) {
         const VisibilityRecord& r = opaque.at(x, y, s);
-        const bool layered = transparent && transparent->count(opaque.index(x, y, s)) > 0;
-        covered += r.hit() || layered;
-        if (!r.hit()) return;
-        ++hits;
-        depth += r.depth;
-        const SurfaceAttributes a = front ? *front : interpolateAttributes(c, r);
+        const std::size_t index = opaque.index(x, y, s);
+        const int layers = transparent ? transparent->count(index) : 0;
+        covered += r.hit() || layers > 0;
+        if (r.hit()) {
+            ++hits;
+            depth += r.depth;
+        }
+        const VisibilityRecord* dominant =
+            layers > 0 ? dominantSurface(c, r, *transparent, index, layers) : &r;
+        if (!dominant || !dominant->hit()) return;
+        ++surfaces;
+        const SurfaceAttributes a =
+            front && dominant == &r ? *front : interpolateAttributes(c, *dominant);
         Vec2 r0, r1;
         if (c.camera->cameraToRaster(a.cameraPosition0, r0) &&
             c.camera->cameraToRaster(a.cameraPosition1, r1)) {
@@ -152,13 +193,9 @@ struct PixelAovs {
     // Writes all four planes: they start unwritten (allocateAovs).
     void store(ResolvedFrame& frame, std::size_t pixel, int spp) const {
         frame.coverage[pixel] = float(covered) / float(spp);
-        if (hits == 0) {
-            frame.depth[pixel] = frame.motionX[pixel] = frame.motionY[pixel] = 0.0f;
-            return;
-        }
-        frame.depth[pixel] = depth / float(hits);
-        frame.motionX[pixel] = motionX / float(hits);
-        frame.motionY[pixel] = motionY / float(hits);
+        frame.depth[pixel] = hits == 0 ? 0.0f : depth / float(hits);
+        frame.motionX[pixel] = surfaces == 0 ? 0.0f : motionX / float(surfaces);
+        frame.motionY[pixel] = surfaces == 0 ? 0.0f : motionY / float(surfaces);
     }
 };
 

@@ -3,6 +3,14 @@
 // the background) with the sample's transparent t-fragments in front of it sorted back to front
 // and blended over it; per pixel, a filter over samples (box, or a Gaussian reaching into the
 // neighbouring pixels). AOVs: depth, motion vectors and coverage.
+//
+// Motion over transparency: a reconstruction filter (McGuire et al. 2012, the hybrid) blurs each
+// pixel with one velocity, so a sample's motion is that of the surface whose colour weighs most
+// in it: a transparent layer weighs its opacity times what the layers in front of it let
+// through, the opaque hit (or the background, which has no motion) what they all let through;
+// ties go to the nearer. A moving glass at opacity 0.5 thus gives its own motion over a still
+// wall or the empty background, and one at 0.25 leaves the pixel the wall's. Depth stays the
+// opaque hits', as a z-buffer's: transparent surfaces do not write it.
 
 #include <string>
 #include <vector>
@@ -27,7 +35,8 @@ struct ResolveOptions {
 struct ResolvedFrame {
     Image color;
     // Per pixel: mean depth of the samples with an opaque hit (0 if none), fraction of samples
-    // with any hit, and the mean screen motion (pixels, t=0 to t=1) of the opaque hits.
+    // with any hit, and the mean screen motion (pixels, t=0 to t=1) of the samples' dominant
+    // surfaces (above; 0 if the background dominates every sample).
     FloatPlane depth, coverage, motionX, motionY;
     // Per patch: the pixel-shader invocations it caused in the resolve (its visible t-fragments,
     // or its distinct pixel-triangle pairs at the per-pixel-primitive rate), for the timing model.

@@ -28,6 +28,18 @@ const char* shadingRateName(ShadingRate r) {
     return r == ShadingRate::PerFragment ? "per-fragment" : "per-pixel-primitive";
 }
 
+namespace {
+
+const MaterialDesc& materialOf(const ShadingContext& c, const TessellatedPatch& patch) {
+    return c.frontEnd->objects()[std::size_t(patch.object)].desc.material;
+}
+
+float opacityAt(const MaterialDesc& m, float time) {
+    return (1.0f - time) * m.opacity + time * m.closeOpacity;
+}
+
+}  // namespace
+
 SurfaceAttributes interpolateAttributes(const ShadingContext& c, const VisibilityRecord& r) {
     SurfaceAttributes a;
     interpolateAttributes(c, r, a);
@@ -51,10 +63,14 @@ void interpolateAttributes(const ShadingContext& c, const VisibilityRecord& r,
         a.cameraPosition0 += w[k] * mesh.position0[v[k]];
         a.cameraPosition1 += w[k] * mesh.position1[v[k]];
     }
-    const MaterialDesc& m = c.frontEnd->objects()[std::size_t(patch.object)].desc.material;
+    const MaterialDesc& m = materialOf(c, patch);
     a.color = lerp(m.color, m.closeColor, time);
-    a.opacity = (1.0f - time) * m.opacity + time * m.closeOpacity;
+    a.opacity = opacityAt(m, time);
     a.unlit = m.unlit;
+}
+
+float surfaceOpacity(const ShadingContext& c, const VisibilityRecord& r) {
+    return opacityAt(materialOf(c, (*c.patches)[std::size_t(r.patch)]), r.time);
 }
 
 Vec3 shadeFragment(const ShadingContext& c, const SurfaceAttributes& a, float time) {

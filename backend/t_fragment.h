@@ -53,6 +53,10 @@ SurfaceAttributes interpolateAttributes(const ShadingContext& context,
 void interpolateAttributes(const ShadingContext& context, const VisibilityRecord& record,
                            SurfaceAttributes& attributes);
 
+// The record's material opacity at its own time (what interpolateAttributes gives, without the
+// geometry): the transparency blend's alpha.
+float surfaceOpacity(const ShadingContext& context, const VisibilityRecord& record);
+
 // Lambert with an ambient term and a checker on the surface (u,v); unlit materials give their
 // colour. Counts one PS invocation.
 Vec3 shadeFragment(const ShadingContext& context, const SurfaceAttributes& surface, float time);

@@ -274,5 +274,34 @@ TEST(Resolve, ExrCarriesNamedAovChannels) {
     EXPECT_NEAR(r.frame.motionY[std::size_t(8 * 24 + 12)], 0.0f, 1e-4f);
 }
 
+// A transparent surface has motion vectors: a sample's motion is that of the surface contributing
+// most to its colour (its opacity times what the surfaces in front let through; ties to the
+// nearer), what a one-velocity-per-pixel reconstruction filter must blur the pixel with.
+TEST(Resolve, MotionIsThatOfTheSurfaceThatDominatesTheSample) {
+    // 2 units right at depth 4 (a quad at z = 1), over 16 pixels of a 40-degree height.
+    const float motion = 2.0f * 16.0f / (2.0f * 4.0f * std::tan(glm::radians(20.0f)));
+    const std::size_t centre = 8 * 24 + 12;
+    for (const bool overOpaque : {true, false}) {
+        for (const float opacity : {0.25f, 0.5f, 0.75f}) {
+            SceneDesc scene = quadScene();
+            ObjectDesc glass = quad(scene.objects[0].cagePath, {1, 0, 0}, opacity, 1.0f);
+            glass.close.translate = {2.0f, 0.0f, 1.0f};
+            if (overOpaque)
+                scene.objects.push_back(glass);
+            else
+                scene.objects = {glass};
+            const RenderResult r = renderScene(scene, {});
+            // Over the still quad the glass dominates from 0.5 (ties to the nearer); over the
+            // empty background, which has no motion, likewise.
+            const float expected = opacity >= 0.5f ? motion : 0.0f;
+            EXPECT_NEAR(r.frame.motionX[centre], expected, 1e-3f)
+                << "opacity " << opacity << (overOpaque ? " over the quad" : " alone");
+            EXPECT_NEAR(r.frame.motionY[centre], 0.0f, 1e-4f);
+            // Depth stays the opaque hits' (none over the empty background).
+            EXPECT_NEAR(r.frame.depth[centre], overOpaque ? 5.0f : 0.0f, 1e-4f);
+        }
+    }
+}
+
 }  // namespace
 }  // namespace patchsim
