@@ -135,6 +135,12 @@ RenderOptions jobRenderOptions(int threads, const SceneLimits& limits) {
     return options;
 }
 
+// The bottleneck's busy share of the frame: near 1, that stage alone sets the cycles, and only
+// more of it (units, throughput) buys a faster frame.
+double bottleneckUtilisation(const TimingReport& t) {
+    return t.bottleneck ? t.stages[std::size_t(*t.bottleneck)].utilisation : 0.0;
+}
+
 }  // namespace
 
 std::vector<ExploreJob> exploreJobs(std::size_t sceneCount, const ExploreGrid& grid) {
@@ -150,7 +156,8 @@ std::string exploreCsvHeader(const ExploreGrid& grid) {
     for (const GridAxis& a : grid.rasterAxes) header.append(",").append(a.name);
     for (const GridAxis& a : grid.hardwareAxes) header.append(",").append(a.name);
     header +=
-        ",total_cycles,microseconds,bottleneck,sample_test_efficiency,patches_over_scratch_budget";
+        ",total_cycles,microseconds,bottleneck,bottleneck_utilisation,sample_test_efficiency,"
+        "patches_over_scratch_budget";
     for (const auto& [name, value] : CounterRegistry::instance().snapshot().byName())
         header.append(",").append(name);
     return header;
@@ -183,8 +190,8 @@ std::vector<ExploreRow> runExploreJob(const std::vector<SceneDesc>& scenes, cons
         row.totalCycles = t.totalCycles;
         for (const std::string& field :
              {formatNumber(t.totalCycles), formatNumber(t.microseconds()),
-              std::string(t.bottleneckName()), formatNumber(ste),
-              std::to_string(t.patchesOverBudget)})
+              std::string(t.bottleneckName()), formatNumber(bottleneckUtilisation(t)),
+              formatNumber(ste), std::to_string(t.patchesOverBudget)})
             row.csv.append(",").append(field);
         for (const auto& [name, value] : counters.byName())
             row.csv.append(",").append(std::to_string(value));
