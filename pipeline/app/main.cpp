@@ -20,6 +20,7 @@
 #include "pipeline/core/scene_reader.h"
 #include "pipeline/core/text_file.h"
 #include "pipeline/driver/explore.h"
+#include "pipeline/driver/plots.h"
 #include "pipeline/driver/render.h"
 #include "pipeline/driver/scene_info.h"
 #include "pipeline/driver/stats_report.h"
@@ -335,8 +336,10 @@ int runExplore(const ExploreCommand& e, const MpiContext& mpi) {
     const HardwareConfig hardware =
         e.hardware.empty() ? defaultHardwareConfig() : readHardwareConfig(e.hardware);
     OutputSet outputs;  // only rank 0 writes; every rank checks the paths alike
+    // The plots' folder first: it may be the CSV's too, made by this command.
+    const PlotJob plots{"explore", e.output, e.plots};
+    if (!e.plots.empty()) addPlotScript(outputs, plots, "--plots");
     outputs.file(e.output, "-o");
-    if (!e.plots.empty()) outputs.folder(e.plots, "--plots");
     const std::size_t jobs = exploreJobs(scenes.size(), grid).size();
     // Jobs are dealt round-robin over ranks; each rank tags its rows with the job number. A job
     // that fails on one rank must not leave the others waiting: every rank reports, then all stop.
@@ -370,14 +373,12 @@ int runExplore(const ExploreCommand& e, const MpiContext& mpi) {
     std::string csv = exploreCsvHeader(grid) + "\n";
     for (const ExploreRow& row : rows) csv += row.csv + "\n";
     outputs.writeText(e.output, "-o", [&](std::ostream& out) { out << csv; });
-    std::vector<std::string> plots;
-    if (!e.plots.empty()) plots = writeExplorePlots(rows, grid, e.plots, outputs);
     outputs.commit();
     std::cout << "wrote " << e.output << ": " << rows.size() << " points (" << jobs << " renders"
               << (mpi.active() ? " over " + std::to_string(mpi.size()) + " MPI ranks"
                                : std::string())
               << ")\n";
-    for (const std::string& file : plots) std::cout << "wrote " << file << "\n";
+    if (!e.plots.empty()) drawPlots(plots, std::cout);
     return 0;
 }
 
@@ -641,7 +642,8 @@ int main(int argc, char** argv) {
     explore->add_option("--grid", exploreOptions.grid, "Grid file (docs/EXPLORE.md)")->required();
     explore->add_option("-o,--output", exploreOptions.output, "CSV file to write");
     explore->add_option("--plots", exploreOptions.plots,
-                        "Folder for cycles-against-parameter SVG plots");
+                        "Folder for the plots (PNG and SVG: cycles against each parameter, "
+                        "heat maps of each pair)");
     explore->add_option("--hw", exploreOptions.hardware, "Base hardware configuration");
     explore
         ->add_option("--threads", exploreOptions.threads,
