@@ -155,8 +155,8 @@ def plot_scene(scene, rows, out_dir):
 def crop_sheet(scene, rows, images_dir, out_dir, size=48):
     converged = mpimg.imread(os.path.join(images_dir, f"{scene}-converged.png"))[..., :3]
     runs = [(r["method"], int(r["spp"])) for r in rows]
-    pictures = {run: mpimg.imread(os.path.join(images_dir, f"{scene}-{run[0]}-{run[1]}.png"))[..., :3]
-                for run in runs}
+    pictures = {(m, s): mpimg.imread(os.path.join(images_dir, f"{scene}-{m}-{s}.png"))[..., :3]
+                for m, s in runs}
     h, w = converged.shape[:2]
     size = min(size, h, w)
     # Where the runs disagree most with the converged image: the crop with the largest summed error.
@@ -255,9 +255,10 @@ def bottleneck_text(row):
 
 
 def panels(count, width, height):
+    """One panel per scene, up to three in a row; each panel width x height inches."""
     cols = min(count, 3)
-    fig, axes = plt.subplots(math.ceil(count / cols), cols, figsize=(width * cols, height *
-                             math.ceil(count / cols)), squeeze=False)
+    rows = math.ceil(count / cols)
+    fig, axes = plt.subplots(rows, cols, figsize=(width * cols, height * rows), squeeze=False)
     for ax in axes.flat[count:]:
         ax.set_visible(False)
     return fig, axes.flat[:count]
@@ -265,13 +266,14 @@ def panels(count, width, height):
 
 def below(fig, handles=(), text=""):
     """A legend and a caption under the panels (savefig's tight box takes them in)."""
+    per_row = max(1, int(fig.get_figwidth() // 2.2))
     if handles:
         fig.legend(handles=handles, loc="upper center", bbox_to_anchor=(0.5, 0.01), frameon=False,
-                   ncol=max(1, min(len(handles), int(fig.get_figwidth() // 2.2))), fontsize=8)
+                   ncol=min(len(handles), per_row), fontsize=8)
     if text:
-        rows = math.ceil(len(handles) / max(1, int(fig.get_figwidth() // 2.2))) if handles else 0
-        fig.text(0.5, -0.05 * rows, textwrap.fill(text, int(fig.get_figwidth() * 14)),
-                 ha="center", va="top", fontsize=8, color="0.25")
+        fig.text(0.5, -0.05 * math.ceil(len(handles) / per_row),
+                 textwrap.fill(text, int(fig.get_figwidth() * 14)), ha="center", va="top",
+                 fontsize=8, color="0.25")
 
 
 def microsecond_axis(ax, rows):
@@ -343,7 +345,8 @@ def cycles_against(data, parameter, out_dir):
         ax.set_xticks(range(len(values)), [value_label(v, unit_of(parameter)) for v in values])
         ax.set_xlabel(axis_title(parameter))
         ax.set_ylabel(CYCLES)
-        if max(map(cycles, rows)) > 8 * min(map(cycles, rows)):  # ratios read better than gaps
+        low, high = min(map(cycles, rows)), max(map(cycles, rows))
+        if 0 < low and 8 * low < high:  # ratios read better than gaps
             ax.set_yscale("log")
         ax.margins(x=0.08, y=0.12)
         eng_axis(ax.yaxis)
@@ -380,7 +383,8 @@ def heat_map(data, a, b, out_dir):
         for (va, vb), r in best.items():
             i, j = rows_of.index(va), cols_of.index(vb)
             shade = image.cmap(image.norm(grid[i, j]))
-            ink = "white" if 0.299 * shade[0] + 0.587 * shade[1] + 0.114 * shade[2] < 0.5 else "black"
+            dark = 0.299 * shade[0] + 0.587 * shade[1] + 0.114 * shade[2] < 0.5  # luma
+            ink = "white" if dark else "black"
             ax.text(j, i - 0.12, eng(cycles(r)), ha="center", va="center", fontsize=10,
                     fontweight="bold", color=ink)
             ax.text(j, i + 0.2, bottleneck_text(r), ha="center", va="center", fontsize=8,
@@ -407,6 +411,8 @@ def explore(csv_path, out_dir):
     if not rows:
         sys.exit(f"{csv_path}: no rows to plot")
     data = Explore(rows)
+    if not data.parameters:
+        print("no grid parameters: nothing to plot")
     written = []
     for parameter in data.parameters:
         written += cycles_against(data, parameter, out_dir)
