@@ -32,6 +32,7 @@ import matplotlib
 
 matplotlib.use("Agg")
 matplotlib.rcParams["svg.fonttype"] = "none"  # SVG text stays text: searchable, editable
+matplotlib.rcParams["svg.hashsalt"] = "patchsim"  # fixed element ids: same results, same SVG
 import matplotlib.image as mpimg  # noqa: E402
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
@@ -97,7 +98,9 @@ def save(fig, out_dir, name, formats=("png", "svg")):
     written = []
     for ext in formats:
         path = os.path.join(out_dir, f"{name}.{ext}")
-        fig.savefig(path, dpi=120, bbox_inches="tight")
+        # No date in the SVG either.
+        fig.savefig(path, dpi=120, bbox_inches="tight",
+                    metadata={"Date": None} if ext == "svg" else None)
         written.append(path)
     plt.close(fig)
     return written
