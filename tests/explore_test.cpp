@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <sstream>
+
 #include "pipeline/core/error.h"
 #include "pipeline/core/hardware_config.h"
 #include "pipeline/core/scene_reader.h"
@@ -38,6 +40,17 @@ TEST(Explore, GridCrossProductAndRows) {
     EXPECT_EQ(std::count(header.begin(), header.end(), ','),
               std::count(rows[0].csv.begin(), rows[0].csv.end(), ','));
     EXPECT_EQ(rows[0].csv.rfind(scenes[0].path + ",4,root,false,1,", 0), 0u) << rows[0].csv;
+    // Every point names its bottleneck stage and how busy that stage was.
+    const std::string timing = ",total_cycles,microseconds,bottleneck,bottleneck_utilisation,";
+    ASSERT_NE(header.find(timing), std::string::npos) << header;
+    const auto column = std::count(header.begin(), header.begin() + header.find(timing), ',') + 3;
+    std::vector<std::string> fields;
+    std::istringstream line(rows[0].csv);
+    for (std::string field; std::getline(line, field, ',');) fields.push_back(field);
+    EXPECT_EQ(fields[std::size_t(column)], "RS") << rows[0].csv;
+    const double busy = std::stod(fields[std::size_t(column) + 1]);
+    EXPECT_GT(busy, 0.5);
+    EXPECT_LE(busy, 1.0);
     EXPECT_EQ(rows[2].choice, (std::vector<std::size_t>{0, 0, 1, 2}));
     // More rasterizer units: fewer cycles for the same counted work (the rasterizer is this
     // frame's bottleneck, so doubling it must show).

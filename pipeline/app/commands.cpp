@@ -16,6 +16,7 @@
 #include "pipeline/core/rasterizer_options.h"
 #include "pipeline/core/text_file.h"
 #include "pipeline/driver/explore.h"
+#include "pipeline/driver/plots.h"
 #include "pipeline/driver/render.h"
 #include "pipeline/driver/scene_info.h"
 #include "pipeline/driver/stats_report.h"
@@ -253,8 +254,10 @@ int runExplore(const JobSettings& s, const MpiContext& mpi) {
     const ExploreGrid grid = parseExploreGrid(readTextFile(s.grid), s.grid);
     const HardwareConfig hardware = hardwareOf(s);
     OutputSet outputs;  // only rank 0 writes; every rank checks the paths alike
+    // The plots' folder first: it may be the CSV's too, made by this command.
+    const PlotJob plots{"explore", s.output, s.plots};
+    if (!s.plots.empty()) addPlotScript(outputs, plots, "--plots");
     outputs.file(s.output, "-o");
-    if (!s.plots.empty()) outputs.folder(s.plots, "--plots");
     const std::size_t jobs = exploreJobs(scenes.size(), grid).size();
     // Jobs are dealt round-robin over ranks; each rank tags its rows with the job number. A job
     // that fails on one rank must not leave the others waiting: every rank reports, then all stop.
@@ -288,14 +291,12 @@ int runExplore(const JobSettings& s, const MpiContext& mpi) {
     std::string csv = exploreCsvHeader(grid) + "\n";
     for (const ExploreRow& row : rows) csv += row.csv + "\n";
     outputs.writeText(s.output, "-o", [&](std::ostream& out) { out << csv; });
-    std::vector<std::string> plots;
-    if (!s.plots.empty()) plots = writeExplorePlots(rows, grid, s.plots, outputs);
     outputs.commit();
     std::cout << "wrote " << s.output << ": " << rows.size() << " points (" << jobs << " renders"
               << (mpi.active() ? " over " + std::to_string(mpi.size()) + " MPI ranks"
                                : std::string())
               << ")\n";
-    for (const std::string& file : plots) std::cout << "wrote " << file << "\n";
+    if (!s.plots.empty()) drawPlots(plots, std::cout);
     return 0;
 }
 

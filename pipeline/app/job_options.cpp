@@ -49,7 +49,8 @@ std::vector<JobOption> makeTable() {
     t.push_back(
         O("--grid", kExplore, K::InputPath, &S::grid, "Grid file (docs/EXPLORE.md); required"));
     t.push_back(O("--plots", kExplore, K::OutputFolder, &S::plots,
-                  "Folder for the plots of cycles against every parameter"));
+                  "Folder for the plots (PNG and SVG: cycles against each parameter, heat maps "
+                  "of each pair)"));
     t.push_back(O("--method", kRender, K::Name, &S::method, "Visibility method")
                     .oneOf(methodNames())
                     .recordedAs("method"));

@@ -1,16 +1,12 @@
 #include "pipeline/driver/explore.h"
 
 #include <algorithm>
-#include <cmath>
 #include <cstdio>
 #include <cstdlib>
-#include <fstream>
-#include <map>
 #include <sstream>
 
 #include "pipeline/core/counters.h"
 #include "pipeline/core/json_fields.h"
-#include "pipeline/core/output_set.h"
 #include "pipeline/core/rasterizer_options.h"
 #include "pipeline/driver/render.h"
 #include "pipeline/driver/timing_model.h"
@@ -135,6 +131,12 @@ RenderOptions jobRenderOptions(int threads, const SceneLimits& limits) {
     return options;
 }
 
+// The bottleneck's busy share of the frame: near 1, that stage alone sets the cycles, and only
+// more of it (units, throughput) buys a faster frame.
+double bottleneckUtilisation(const TimingReport& t) {
+    return t.bottleneck ? t.stages[std::size_t(*t.bottleneck)].utilisation : 0.0;
+}
+
 }  // namespace
 
 std::vector<ExploreJob> exploreJobs(std::size_t sceneCount, const ExploreGrid& grid) {
@@ -150,7 +152,8 @@ std::string exploreCsvHeader(const ExploreGrid& grid) {
     for (const GridAxis& a : grid.rasterAxes) header.append(",").append(a.name);
     for (const GridAxis& a : grid.hardwareAxes) header.append(",").append(a.name);
     header +=
-        ",total_cycles,microseconds,bottleneck,sample_test_efficiency,patches_over_scratch_budget";
+        ",total_cycles,microseconds,bottleneck,bottleneck_utilisation,sample_test_efficiency,"
+        "patches_over_scratch_budget";
     for (const auto& [name, value] : CounterRegistry::instance().snapshot().byName())
         header.append(",").append(name);
     return header;
@@ -183,8 +186,8 @@ std::vector<ExploreRow> runExploreJob(const std::vector<SceneDesc>& scenes, cons
         row.totalCycles = t.totalCycles;
         for (const std::string& field :
              {formatNumber(t.totalCycles), formatNumber(t.microseconds()),
-              std::string(t.bottleneckName()), formatNumber(ste),
-              std::to_string(t.patchesOverBudget)})
+              std::string(t.bottleneckName()), formatNumber(bottleneckUtilisation(t)),
+              formatNumber(ste), std::to_string(t.patchesOverBudget)})
             row.csv.append(",").append(field);
         for (const auto& [name, value] : counters.byName())
             row.csv.append(",").append(std::to_string(value));
@@ -236,67 +239,6 @@ void runExploreJobs(const std::vector<SceneDesc>& scenes, const ExploreGrid& gri
     }
     for (std::size_t j = 0; j < jobs.size(); ++j)
         if (mine(j)) emit(j, runExploreJob(scenes, grid, baseHardware, j, threads, limits));
-}
-
-std::vector<std::string> writeExplorePlots(const std::vector<ExploreRow>& rows,
-                                           const ExploreGrid& grid, const std::string& dir,
-                                           OutputSet& outputs) {
-    double maxCycles = 1;
-    for (const ExploreRow& r : rows) maxCycles = std::max(maxCycles, r.totalCycles);
-    std::vector<GridAxis> axes = grid.rasterAxes;
-    axes.insert(axes.end(), grid.hardwareAxes.begin(), grid.hardwareAxes.end());
-    std::vector<std::string> written;
-    for (std::size_t axisIndex = 0; axisIndex < axes.size(); ++axisIndex) {
-        const GridAxis& axis = axes[axisIndex];
-        constexpr double kW = 520, kH = 340, kLeft = 90, kRight = 20, kTop = 40, kBottom = 60;
-        const double plotW = kW - kLeft - kRight, plotH = kH - kTop - kBottom;
-        auto xOf = [&](std::size_t i) {
-            return kLeft + plotW * (double(i) + 0.5) / double(axis.values.size());
-        };
-        auto yOf = [&](double cycles) {
-            return kTop + plotH * (1.0 - cycles / (maxCycles * 1.05));
-        };
-        std::ostringstream svg;
-        svg << "<svg xmlns='http://www.w3.org/2000/svg' width='" << kW << "' height='" << kH
-            << "' font-family='sans-serif' font-size='12'>\n<rect width='100%' height='100%' "
-               "fill='white'/>\n"
-            << "<text x='" << kW / 2
-            << "' y='22' text-anchor='middle' font-size='14'>modelled cycles against " << axis.name
-            << "</text>\n"
-            << "<line x1='" << kLeft << "' y1='" << kTop + plotH << "' x2='" << kLeft + plotW
-            << "' y2='" << kTop + plotH << "' stroke='black'/>\n<line x1='" << kLeft << "' y1='"
-            << kTop << "' x2='" << kLeft << "' y2='" << kTop + plotH << "' stroke='black'/>\n";
-        for (int tick = 0; tick <= 4; ++tick) {
-            const double v = maxCycles * 1.05 * tick / 4;
-            svg << "<text x='" << kLeft - 6 << "' y='" << yOf(v) + 4 << "' text-anchor='end'>"
-                << formatNumber(std::round(v)) << "</text>\n";
-        }
-        std::vector<double> sum(axis.values.size(), 0.0);
-        std::vector<int> count(axis.values.size(), 0);
-        for (const ExploreRow& r : rows) {
-            const std::size_t i = r.choice[axisIndex];
-            const double cycles = r.totalCycles;
-            sum[i] += cycles;
-            ++count[i];
-            svg << "<circle cx='" << xOf(i) << "' cy='" << yOf(cycles)
-                << "' r='3' fill='#4c72b0' fill-opacity='0.5'/>\n";
-        }
-        svg << "<polyline fill='none' stroke='#c44e52' stroke-width='2' points='";
-        for (std::size_t i = 0; i < axis.values.size(); ++i)
-            if (count[i]) svg << xOf(i) << "," << yOf(sum[i] / count[i]) << " ";
-        svg << "'/>\n";
-        for (std::size_t i = 0; i < axis.values.size(); ++i)
-            svg << "<text x='" << xOf(i) << "' y='" << kTop + plotH + 18
-                << "' text-anchor='middle'>" << axis.values[i] << "</text>\n";
-        svg << "<text x='" << kLeft + plotW / 2 << "' y='" << kH - 14 << "' text-anchor='middle'>"
-            << axis.name << " (dots: every point; line: mean)</text>\n</svg>\n";
-        std::string file = axis.name;
-        std::replace(file.begin(), file.end(), '.', '_');
-        const std::string path = dir + "/cycles_vs_" + file + ".svg";
-        outputs.writeText(path, "--plots", [&](std::ostream& out) { out << svg.str(); });
-        written.push_back(path);
-    }
-    return written;
 }
 
 }  // namespace patchsim

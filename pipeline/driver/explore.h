@@ -78,10 +78,4 @@ void runExploreJobs(const std::vector<SceneDesc>& scenes, const ExploreGrid& gri
                     const std::function<bool(std::size_t)>& mine,
                     const std::function<void(std::size_t, const std::vector<ExploreRow>&)>& emit);
 
-// One SVG per parameter: modelled cycles of every row against that parameter's values, with the
-// mean per value joined; files go through `outputs`. Returns the files written.
-std::vector<std::string> writeExplorePlots(const std::vector<ExploreRow>& rows,
-                                           const ExploreGrid& grid, const std::string& dir,
-                                           class OutputSet& outputs);
-
 }  // namespace patchsim

@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <cstdlib>
 #include <filesystem>
 #include <ostream>
 #include <set>
@@ -13,8 +12,8 @@
 #include "pipeline/core/error.h"
 #include "pipeline/core/output_set.h"
 #include "pipeline/core/progress.h"
-#include "pipeline/core/text_file.h"
 #include "pipeline/driver/converged_image.h"
+#include "pipeline/driver/plots.h"
 #include "pipeline/driver/timing_model.h"
 
 namespace patchsim {
@@ -32,17 +31,6 @@ double median(std::vector<double> v) {
     std::sort(v.begin(), v.end());
     const std::size_t n = v.size();
     return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
-
-// The Python with matplotlib: PATCHSIM_PYTHON when set, else Debian's, else the one on the path.
-std::string pythonWithMatplotlib() {
-    std::vector<std::string> candidates = {"/usr/bin/python3", "python3"};
-    if (const char* chosen = std::getenv("PATCHSIM_PYTHON")) candidates = {chosen};
-    for (const std::string& python : candidates) {
-        const std::string probe = python + " -c 'import matplotlib, numpy' > /dev/null 2>&1";
-        if (std::system(probe.c_str()) == 0) return python;
-    }
-    return {};
 }
 
 SweepRow measureRun(const SweepScene& s, VisibilityMethod method, int spp,
@@ -184,22 +172,6 @@ std::size_t removeStaleImages(const std::string& imagesDir, const std::set<std::
     return removed;
 }
 
-void drawPlots(const std::string& dir, std::ostream& log) {
-    const std::string python = pythonWithMatplotlib();
-    if (python.empty()) {
-        log << "plots skipped: no Python with matplotlib and numpy (Debian: apt-get install "
-               "python3-matplotlib); run `python3 "
-            << dir << "/plot_sweep.py " << dir << "` once it is there\n";
-        return;
-    }
-    const std::string command =
-        python + " '" + dir + "/plot_sweep.py' '" + dir + "' > '" + dir + "/plots.log' 2>&1";
-    if (std::system(command.c_str()) == 0)
-        log << "wrote the plots in " << dir << "/plots (see " << dir << "/plots.log)\n";
-    else
-        log << "plotting failed; see " << dir << "/plots.log\n";
-}
-
 }  // namespace
 
 std::vector<SweepRow> runSweep(const std::vector<SweepScene>& scenes, const SweepOptions& o,
@@ -214,6 +186,8 @@ std::vector<SweepRow> runSweep(const std::vector<SweepScene>& scenes, const Swee
     const std::string imagesDir = joinOutputPath(dir, "images");
     outputs.folder(imagesDir, "-o");
     outputs.file(joinOutputPath(dir, "results.csv"), "-o");
+    const PlotJob plots{"sweep", joinOutputPath(dir, "results.csv"), joinOutputPath(dir, "plots")};
+    addPlotScript(outputs, plots, "-o");
     std::vector<SweepRow> rows;
     std::set<std::string> images;
     Progress progress("sweep     ",
@@ -256,16 +230,13 @@ std::vector<SweepRow> runSweep(const std::vector<SweepScene>& scenes, const Swee
         out << sweepCsvHeader() << "\n";
         for (const SweepRow& r : rows) out << sweepCsvRow(r) << "\n";
     });
-    const auto script = builtinAsset("plot_sweep.py");
-    outputs.writeText(joinOutputPath(dir, "plot_sweep.py"), "-o",
-                      [&](std::ostream& out) { out << *script; });
     outputs.commit();
     const std::size_t stale = removeStaleImages(imagesDir, images);
     log << "wrote " << dir << "/results.csv (" << rows.size() << " runs) and their images in "
         << imagesDir;
     if (stale > 0) log << "; removed " << stale << " images of an earlier sweep";
     log << "\n";
-    drawPlots(dir, log);
+    drawPlots(plots, log);
     return rows;
 }
 

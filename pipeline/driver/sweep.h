@@ -3,7 +3,7 @@
 // level, is rendered by every method at every sample count; each run's error against the
 // converged image (converged_image.h), its wall time (median of repeats), its modelled cycles
 // and its work go into one CSV row. Images of every run are kept, and plots are drawn by
-// scripts/plot_sweep.py (matplotlib) when Python has it.
+// scripts/plot_results.py (matplotlib, plots.h) when Python has it.
 //
 // Everything but the wall time is a pure function of the scene and the settings: the CSV is the
 // same for any thread count apart from that column.
