@@ -28,6 +28,25 @@ namespace patchsim {
 
 namespace {
 
+// Reads a file named on the command line; an error about the file itself (it cannot be opened, is
+// not a regular file) names the option it came from.
+template <class Read>
+auto readNamedFile(const std::string& path, const char* option, Read read) {
+    try {
+        return read(path);
+    } catch (const InputError& e) {
+        if (e.file() != path || !e.field().empty()) throw;
+        const std::string what = e.what(), prefix = path + ": ";
+        throw InputError(path, option,
+                         what.rfind(prefix, 0) == 0 ? what.substr(prefix.size()) : what);
+    }
+}
+
+SceneDesc readScene(const std::string& path, const SceneLimits& limits) {
+    return readNamedFile(path, "scene",
+                         [&](const std::string& p) { return readSceneOrCage(p, limits); });
+}
+
 EffectOverrides overridesOf(const JobSettings& s) {
     EffectOverrides o;
     o.disableMotion = s.noMotion;
@@ -39,11 +58,13 @@ EffectOverrides overridesOf(const JobSettings& s) {
 // The one scene of info, tessellate and render: the built-in one when none is named.
 SceneDesc loadScene(const JobSettings& s) {
     if (s.scenes.empty()) return defaultScene(s.limits());
-    return readSceneOrCage(s.scenes.front(), s.limits());
+    return readScene(s.scenes.front(), s.limits());
 }
 
 HardwareConfig hardwareOf(const JobSettings& s) {
-    return s.hardware.empty() ? defaultHardwareConfig() : readHardwareConfig(s.hardware);
+    if (s.hardware.empty()) return defaultHardwareConfig();
+    return readNamedFile(s.hardware, "--hw",
+                         [](const std::string& p) { return readHardwareConfig(p); });
 }
 
 // Everything of a render that the options choose, other than the method (sweep sets its own).
@@ -249,9 +270,11 @@ int runRender(const JobSettings& s, const MpiContext& mpi) {
 int runExplore(const JobSettings& s, const MpiContext& mpi) {
     const SceneLimits limits = s.limits();
     std::vector<SceneDesc> scenes;
-    for (const std::string& path : s.scenes) scenes.push_back(readSceneOrCage(path, limits));
+    for (const std::string& path : s.scenes) scenes.push_back(readScene(path, limits));
     if (scenes.empty()) scenes.push_back(defaultScene(limits));
-    const ExploreGrid grid = parseExploreGrid(readTextFile(s.grid), s.grid);
+    const ExploreGrid grid = parseExploreGrid(
+        readNamedFile(s.grid, "--grid", [](const std::string& p) { return readTextFile(p); }),
+        s.grid);
     const HardwareConfig hardware = hardwareOf(s);
     OutputSet outputs;  // only rank 0 writes; every rank checks the paths alike
     // The plots' folder first: it may be the CSV's too, made by this command.
@@ -323,8 +346,7 @@ int runSweepCommand(const JobSettings& s) {
     if (paths.empty()) paths.push_back("");
     std::vector<SweepScene> scenes;
     for (const std::string& path : paths) {
-        const SceneDesc scene =
-            path.empty() ? defaultScene(unlimited) : readSceneOrCage(path, unlimited);
+        const SceneDesc scene = path.empty() ? defaultScene(unlimited) : readScene(path, unlimited);
         for (float blur : s.blurList) {
             scenes.push_back({sweepSceneLabel(path, blur, paths),
                               blur == 1.0f ? scene : scaleBlur(scene, blur)});
