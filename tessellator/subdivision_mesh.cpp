@@ -395,6 +395,14 @@ void SubdivisionMesh::ownerOfEdgePoint(int patch, int edge, std::uint32_t s, con
         return;
     }
     const int cageEdge = patches_[std::size_t(patch)].edgeSources[edge].cageEdge;
+    const int vertex = cageEdgeVertex(cageEdge, 0);
+    if (vertex == cageEdgeVertex(cageEdge, 1)) {
+        // A degenerate edge is sharp and both its ends are one sharp corner, so on the limit
+        // surface all of it is that vertex's point; evaluated along the edge it would differ by
+        // an ulp here and there and leave a slit.
+        ownerOfPoint(PointKey::make(PointKey::Vertex, vertex), ownerPatch, uv);
+        return;
+    }
     const std::uint32_t canonical = span.sameDirection ? s : kCageEdgeOne - s;
     if (segments[edge] > 0) {
         // Integer partitioning: the point is the j-th of the edge's segments; name it by its
@@ -448,6 +456,10 @@ void SubdivisionMesh::ownerOfCorner(int patch, int corner, const int segments[4]
             ownerOfEdgePoint(patch, corner, 0, segments, ownerPatch, uv);
         return;
     }
+    ownerOfPoint(key, ownerPatch, uv);
+}
+
+void SubdivisionMesh::ownerOfPoint(PointKey key, int& ownerPatch, float uv[2]) const {
     const PointOwner& owner = pointOwners_.at(key.value);
     ownerPatch = owner.patch;
     patchCorner(patches_[std::size_t(owner.patch)].domain, owner.corner, uv);

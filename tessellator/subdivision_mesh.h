@@ -31,6 +31,8 @@
 // yet both are one curve of the limit surface, since such edges are non-manifold, hence sharp, and
 // end in sharp corners (Bfr sharpens a vertex with duplicate edges). So every Far edge takes its
 // points, owner and factor from the lowest-numbered edge with its two vertices (`sharedEdge`).
+// A degenerate edge (both ends one vertex) is sharp between two sharp corners at that vertex, so
+// on the limit surface it is the vertex's point: its points are named as the vertex.
 //
 // Patch edges also carry where their tessellation factor comes from: a whole cage edge, half a
 // cage edge (the sub-patches of an N-gon; factor halved), or an interior sub-patch edge.
@@ -190,6 +192,8 @@ class SubdivisionMesh {
     // A point on an edge between two sub-patches of one N-gon.
     void ownerOfInteriorEdgePoint(int patch, int edge, std::uint32_t s, int& ownerPatch,
                                   float uv[2]) const;
+    // A cage vertex or face centre.
+    void ownerOfPoint(PointKey key, int& ownerPatch, float uv[2]) const;
     // The point at k / n along a cage edge (canonical direction), n the whole edge's segments.
     void ownerOnCageEdge(int cageEdge, std::uint32_t k, std::uint32_t n, int& ownerPatch,
                          float uv[2]) const;
