@@ -187,7 +187,7 @@ void SubdivisionMesh::buildEdges() {
         auto v = level.GetEdgeVertices(e);
         edgeVertices_[std::size_t(2 * e)] = v[0];
         edgeVertices_[std::size_t(2 * e + 1)] = v[1];
-        const auto [lo, hi] = std::minmax(v[0], v[1]);
+        const int lo = std::min(v[0], v[1]), hi = std::max(v[0], v[1]);
         const std::uint64_t ends = std::uint64_t(std::uint32_t(lo)) << 32 | std::uint32_t(hi);
         sharedEdge_[std::size_t(e)] = lo == hi ? e : firstWithEnds.emplace(ends, e).first->second;
     }
