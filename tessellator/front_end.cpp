@@ -131,7 +131,8 @@ float FrontEnd::rawEdgeFactor(const SceneObject& object, const EdgeFactorSource&
     const bool adaptive = t.targetEdgePixels > 0;
     const SubdivisionMesh& mesh = *object.mesh;
     const auto& pts = object.points.at;
-    auto cageEdgeFactor = [&](int edge) {
+    auto cageEdgeFactor = [&](int farEdge) {
+        const int edge = mesh.sharedEdge(farEdge);  // the same factor on every copy of the edge
         float f = t.factor;
         if (adaptive) {
             const int v0 = mesh.cageEdgeVertex(edge, 0), v1 = mesh.cageEdgeVertex(edge, 1);
@@ -229,8 +230,10 @@ int FrontEnd::stitchSharedEdges(TessellatedPatch& out, FrontEndWorkspace& ws) co
         wanted.clear();
         for (const SubdivisionMesh::CageEdgeSpan& other :
              mesh.spansOnCageEdge(patch.edgeSources[e].cageEdge)) {
-            if (other.patch == out.patch || other.start >= mine.start + mine.length ||
-                other.start + other.length <= mine.start)
+            // A patch may have a cage edge twice (a face that repeats a vertex): its other copy
+            // is a neighbour like any other.
+            if ((other.patch == out.patch && other.edge == e) ||
+                other.start >= mine.start + mine.length || other.start + other.length <= mine.start)
                 continue;
             runTessellator(objectBase + std::size_t(other.patch), ws.neighbour, ws);
             if (ws.neighbour.culled()) continue;

@@ -11,6 +11,7 @@
 #include <mutex>
 #include <shared_mutex>
 #include <stdexcept>
+#include <unordered_map>
 
 #include "pipeline/core/counters.h"
 #include "pipeline/core/error.h"
@@ -101,7 +102,6 @@ struct SubdivisionMesh::Impl {
 SubdivisionMesh::SubdivisionMesh(const Cage& cage, SubdivisionScheme scheme,
                                  const std::string& path, FarFaces farChoice, int threads)
     : scheme_(scheme), impl_(std::make_unique<Impl>()) {
-    const int regular = scheme == SubdivisionScheme::Loop ? 3 : 4;
     if (scheme == SubdivisionScheme::Loop) {
         for (int f = 0; f < cage.faceCount(); ++f) {
             if (cage.faceSizes[std::size_t(f)] != 3)
@@ -161,23 +161,7 @@ SubdivisionMesh::SubdivisionMesh(const Cage& cage, SubdivisionScheme scheme,
     }
     if (!farFaces.empty())
         impl_->far = std::make_unique<FarLimitEvaluator>(desc, options, farFaces);
-    edgeVertices_.resize(std::size_t(2 * level.GetNumEdges()));
-    for (int e = 0; e < level.GetNumEdges(); ++e) {
-        auto v = level.GetEdgeVertices(e);
-        edgeVertices_[std::size_t(2 * e)] = v[0];
-        edgeVertices_[std::size_t(2 * e + 1)] = v[1];
-    }
-    edgeNextToSubpatches_.assign(std::size_t(level.GetNumEdges()), false);
-    faceVertices_.resize(std::size_t(level.GetNumFaces()));
-    faceEdges_.resize(std::size_t(level.GetNumFaces()));
-    for (int f = 0; f < level.GetNumFaces(); ++f) {
-        auto fv = level.GetFaceVertices(f);
-        auto fe = level.GetFaceEdges(f);
-        faceVertices_[std::size_t(f)].assign(fv.begin(), fv.end());
-        faceEdges_[std::size_t(f)].assign(fe.begin(), fe.end());
-        if (fv.size() != regular)
-            for (int e : fe) edgeNextToSubpatches_[std::size_t(e)] = true;
-    }
+    buildEdges();
 
     impl_->factory = std::make_unique<ThreadSafeSurfaceFactory>(*impl_->refiner);
     impl_->surfaces.resize(std::size_t(level.GetNumFaces()));
@@ -192,6 +176,33 @@ SubdivisionMesh::SubdivisionMesh(const Cage& cage, SubdivisionScheme scheme,
 }
 
 SubdivisionMesh::~SubdivisionMesh() = default;
+
+void SubdivisionMesh::buildEdges() {
+    const osd::Far::TopologyLevel& level = impl_->refiner->GetLevel(0);
+    const int regular = scheme_ == SubdivisionScheme::Loop ? 3 : 4;
+    edgeVertices_.resize(std::size_t(2 * level.GetNumEdges()));
+    sharedEdge_.resize(std::size_t(level.GetNumEdges()));
+    std::unordered_map<std::uint64_t, int> firstWithEnds;
+    for (int e = 0; e < level.GetNumEdges(); ++e) {
+        auto v = level.GetEdgeVertices(e);
+        edgeVertices_[std::size_t(2 * e)] = v[0];
+        edgeVertices_[std::size_t(2 * e + 1)] = v[1];
+        const int lo = std::min(v[0], v[1]), hi = std::max(v[0], v[1]);
+        const std::uint64_t ends = std::uint64_t(std::uint32_t(lo)) << 32 | std::uint32_t(hi);
+        sharedEdge_[std::size_t(e)] = lo == hi ? e : firstWithEnds.emplace(ends, e).first->second;
+    }
+    edgeNextToSubpatches_.assign(std::size_t(level.GetNumEdges()), false);
+    faceVertices_.resize(std::size_t(level.GetNumFaces()));
+    faceEdges_.resize(std::size_t(level.GetNumFaces()));
+    for (int f = 0; f < level.GetNumFaces(); ++f) {
+        auto fv = level.GetFaceVertices(f);
+        auto fe = level.GetFaceEdges(f);
+        faceVertices_[std::size_t(f)].assign(fv.begin(), fv.end());
+        faceEdges_[std::size_t(f)].assign(fe.begin(), fe.end());
+        if (fv.size() != regular)
+            for (int e : fe) edgeNextToSubpatches_[std::size_t(sharedEdge(e))] = true;
+    }
+}
 
 void SubdivisionMesh::buildPatches() {
     const int regular = scheme_ == SubdivisionScheme::Loop ? 3 : 4;
@@ -270,7 +281,7 @@ void SubdivisionMesh::buildOwners() {
             pointOwners_.emplace(p.corners[c].value, PointOwner{pi, c});
             CageEdgeSpan span;
             if (cageEdgeSpan(pi, c, span)) {
-                cageEdgeSpans_[std::size_t(p.edgeSources[c].cageEdge)].push_back(span);
+                cageEdgeSpans_[std::size_t(sharedEdge(p.edgeSources[c].cageEdge))].push_back(span);
                 continue;
             }
             const PointKey a = p.corners[c], b = p.corners[(c + 1) % n];
@@ -360,7 +371,7 @@ void SubdivisionMesh::ownerOnCageEdge(int cageEdge, std::uint32_t k, std::uint32
                                       int& ownerPatch, float uv[2]) const {
     // Spans are in units of 2^-17 of the edge; compare k / n against them without rounding.
     const std::uint64_t position = std::uint64_t(k) * kCageEdgeOne;  // / n
-    for (const CageEdgeSpan& span : cageEdgeSpans_[std::size_t(cageEdge)]) {
+    for (const CageEdgeSpan& span : spansOnCageEdge(cageEdge)) {
         if (position < std::uint64_t(span.start) * n ||
             position > std::uint64_t(span.start + span.length) * n)
             continue;
@@ -379,23 +390,36 @@ void SubdivisionMesh::ownerOnCageEdge(int cageEdge, std::uint32_t k, std::uint32
 void SubdivisionMesh::ownerOfEdgePoint(int patch, int edge, std::uint32_t s, const int segments[4],
                                        int& ownerPatch, float uv[2]) const {
     CageEdgeSpan span;
-    if (cageEdgeSpan(patch, edge, span)) {
-        const int cageEdge = patches_[std::size_t(patch)].edgeSources[edge].cageEdge;
-        const std::uint32_t canonical = span.sameDirection ? s : kCageEdgeOne - s;
-        if (segments[edge] > 0) {
-            // Integer partitioning: the point is the j-th of the edge's segments; name it by its
-            // index on the whole cage edge, so half-edges and whole edges agree exactly.
-            const std::uint32_t perSpan = std::uint32_t(segments[edge]);
-            const std::uint32_t whole = span.length == kCageEdgeOne ? perSpan : 2 * perSpan;
-            const auto j = std::uint32_t((std::uint64_t(canonical) * perSpan + kCageEdgeOne / 2) /
-                                         kCageEdgeOne);
-            const std::uint32_t k = (span.start == 0 ? 0 : whole / 2) + j;
-            ownerOnCageEdge(cageEdge, k, whole, ownerPatch, uv);
-            return;
-        }
-        ownerOnCageEdge(cageEdge, toCageEdge(span, s), kCageEdgeOne, ownerPatch, uv);
+    if (!cageEdgeSpan(patch, edge, span)) {
+        ownerOfInteriorEdgePoint(patch, edge, s, ownerPatch, uv);
         return;
     }
+    const int cageEdge = patches_[std::size_t(patch)].edgeSources[edge].cageEdge;
+    const int vertex = cageEdgeVertex(cageEdge, 0);
+    if (vertex == cageEdgeVertex(cageEdge, 1)) {
+        // A degenerate edge is sharp and both its ends are one sharp corner, so on the limit
+        // surface all of it is that vertex's point; evaluated along the edge it would differ by
+        // an ulp here and there and leave a slit.
+        ownerOfPoint(PointKey::make(PointKey::Vertex, vertex), ownerPatch, uv);
+        return;
+    }
+    const std::uint32_t canonical = span.sameDirection ? s : kCageEdgeOne - s;
+    if (segments[edge] > 0) {
+        // Integer partitioning: the point is the j-th of the edge's segments; name it by its
+        // index on the whole cage edge, so half-edges and whole edges agree exactly.
+        const std::uint32_t perSpan = std::uint32_t(segments[edge]);
+        const std::uint32_t whole = span.length == kCageEdgeOne ? perSpan : 2 * perSpan;
+        const auto j =
+            std::uint32_t((std::uint64_t(canonical) * perSpan + kCageEdgeOne / 2) / kCageEdgeOne);
+        const std::uint32_t k = (span.start == 0 ? 0 : whole / 2) + j;
+        ownerOnCageEdge(cageEdge, k, whole, ownerPatch, uv);
+        return;
+    }
+    ownerOnCageEdge(cageEdge, toCageEdge(span, s), kCageEdgeOne, ownerPatch, uv);
+}
+
+void SubdivisionMesh::ownerOfInteriorEdgePoint(int patch, int edge, std::uint32_t s,
+                                               int& ownerPatch, float uv[2]) const {
     const PatchInfo& p = patches_[std::size_t(patch)];
     const PointKey a = p.corners[edge], b = p.corners[(edge + 1) % p.cornerCount()];
     const auto key = std::minmax(a.value, b.value);
@@ -432,6 +456,10 @@ void SubdivisionMesh::ownerOfCorner(int patch, int corner, const int segments[4]
             ownerOfEdgePoint(patch, corner, 0, segments, ownerPatch, uv);
         return;
     }
+    ownerOfPoint(key, ownerPatch, uv);
+}
+
+void SubdivisionMesh::ownerOfPoint(PointKey key, int& ownerPatch, float uv[2]) const {
     const PointOwner& owner = pointOwners_.at(key.value);
     ownerPatch = owner.patch;
     patchCorner(patches_[std::size_t(owner.patch)].domain, owner.corner, uv);

@@ -26,6 +26,14 @@
 // other corners (cage vertices, face centres) by a PointKey; interior sub-patch edges by their two
 // corner keys.
 //
+// A cage edge, for naming its points, is a pair of cage vertices. Far gives a face that uses one
+// pair twice (it repeats a vertex) a second edge with the same ends, which no other face shares;
+// yet both are one curve of the limit surface, since such edges are non-manifold, hence sharp, and
+// end in sharp corners (Bfr sharpens a vertex with duplicate edges). So every Far edge takes its
+// points, owner and factor from the lowest-numbered edge with its two vertices (`sharedEdge`).
+// A degenerate edge (both ends one vertex) is sharp between two sharp corners at that vertex, so
+// on the limit surface it is the vertex's point: its points are named as the vertex.
+//
 // Patch edges also carry where their tessellation factor comes from: a whole cage edge, half a
 // cage edge (the sub-patches of an N-gon; factor halved), or an interior sub-patch edge.
 
@@ -93,9 +101,13 @@ class SubdivisionMesh {
     int cageEdgeVertex(int edge, int end) const {
         return edgeVertices_[std::size_t(2 * edge + end)];
     }
-    // True when the cage edge borders a face that is split into sub-patches.
+    // The lowest-numbered Far edge with the same two vertices (`edge` itself when it is the only
+    // one, or degenerate).
+    int sharedEdge(int edge) const { return sharedEdge_[std::size_t(edge)]; }
+    // True when the cage edge (or another with its vertices) borders a face that is split into
+    // sub-patches.
     bool cageEdgeNextToSubpatches(int edge) const {
-        return edgeNextToSubpatches_[std::size_t(edge)];
+        return edgeNextToSubpatches_[std::size_t(sharedEdge(edge))];
     }
     const std::vector<int>& faceVertices(int face) const {
         return faceVertices_[std::size_t(face)];
@@ -138,9 +150,9 @@ class SubdivisionMesh {
     };
     // False for an edge inside an N-gon (between two of its sub-patches).
     bool cageEdgeSpan(int patch, int edge, CageEdgeSpan& span) const;
-    // Every patch edge on a cage edge, by increasing patch index.
+    // Every patch edge on a cage edge (or on another with its vertices), by increasing patch index.
     const std::vector<CageEdgeSpan>& spansOnCageEdge(int cageEdge) const {
-        return cageEdgeSpans_[std::size_t(cageEdge)];
+        return cageEdgeSpans_[std::size_t(sharedEdge(cageEdge))];
     }
     // A patch-edge parameter (units of 2^-17) as a cage-edge parameter, and back.
     static std::uint32_t toCageEdge(const CageEdgeSpan& span, std::uint32_t s);
@@ -150,6 +162,7 @@ class SubdivisionMesh {
 
   private:
     struct Impl;
+    void buildEdges();
     void buildPatches();
     void buildOwners();
 
@@ -157,7 +170,8 @@ class SubdivisionMesh {
     std::unique_ptr<Impl> impl_;
     std::vector<PatchInfo> patches_;
     std::vector<int> edgeVertices_;
-    std::vector<bool> edgeNextToSubpatches_;
+    std::vector<int> sharedEdge_;
+    std::vector<bool> edgeNextToSubpatches_;  // by shared edge
     std::vector<std::vector<int>> faceVertices_;
     std::vector<std::vector<int>> faceEdges_;
 
@@ -175,10 +189,15 @@ class SubdivisionMesh {
             return std::hash<std::uint64_t>()(k.first * 0x9e3779b97f4a7c15ull ^ k.second);
         }
     };
+    // A point on an edge between two sub-patches of one N-gon.
+    void ownerOfInteriorEdgePoint(int patch, int edge, std::uint32_t s, int& ownerPatch,
+                                  float uv[2]) const;
+    // A cage vertex or face centre.
+    void ownerOfPoint(PointKey key, int& ownerPatch, float uv[2]) const;
     // The point at k / n along a cage edge (canonical direction), n the whole edge's segments.
     void ownerOnCageEdge(int cageEdge, std::uint32_t k, std::uint32_t n, int& ownerPatch,
                          float uv[2]) const;
-    // Patch edges on each cage edge, by increasing patch index.
+    // Patch edges on each shared edge, by increasing patch index (empty for the other edges).
     std::vector<std::vector<CageEdgeSpan>> cageEdgeSpans_;
     // Interior sub-patch edges (between sub-patches of one N-gon), keyed by their corner keys.
     std::unordered_map<std::pair<std::uint64_t, std::uint64_t>, EdgeOwner, KeyPairHash> edgeOwners_;

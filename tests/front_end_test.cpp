@@ -191,11 +191,13 @@ ExportedMesh exportAndRead(const FrontEnd& fe) {
 
 // Every scheme and every partitioning is watertight: the two sides of a shared edge use the same
 // points, bit for bit, so the exported mesh welded by exact position has exactly the cage's
-// boundary loops (a crack or T-junction would add a loop).
+// boundary loops (a crack or T-junction would add a loop). The `nonman_edges` cages have faces
+// that use one pair of vertices twice, which Far makes two edges.
 TEST(FrontEnd, WatertightOnEveryCageUnderEveryPartitioning) {
     std::vector<std::string> files = test::regressionCageFiles();
     for (const char* own :
-         {"catmark_val2_interior.obj", "loop_val2_interior.obj", "catmark_nonman_quadpole8.obj"})
+         {"catmark_val2_interior.obj", "loop_val2_interior.obj", "catmark_nonman_quadpole8.obj",
+          "catmark_nonman_edges.obj", "loop_nonman_edges.obj"})
         files.push_back(test::sourcePath(std::string("scenes/cages/") + own));
     // More cages (e.g. all of OpenSubdiv's regression shapes written out as OBJ) from a folder.
     if (const char* extra = std::getenv("PATCHSIM_EXTRA_CAGES"))

@@ -6,6 +6,8 @@
 #include <opensubdiv/far/primvarRefiner.h>
 #include <opensubdiv/far/topologyDescriptor.h>
 
+#include <algorithm>
+#include <map>
 #include <random>
 
 #include "pipeline/core/error.h"
@@ -203,6 +205,28 @@ TEST(SubdivisionMesh, NGonsBecomeOneQuadSubPatchPerCorner) {
                               evaluateLimit(mesh, cage.positions, p.face, first[0], first[1])),
                   1e-5f);
     }
+}
+
+// A face that uses one pair of vertices twice makes Far add a second edge with those vertices;
+// every such edge names its points by the lowest-numbered one, so all see the same spans.
+TEST(SubdivisionMesh, EdgesWithTheSameVerticesShareTheirSpans) {
+    const Cage cage = readObjCage(test::sourcePath("scenes/cages/catmark_nonman_edges.obj"));
+    const SubdivisionMesh mesh(cage, SubdivisionScheme::Catmark, "nonman_edges");
+    std::map<std::pair<int, int>, int> first;
+    int copies = 0;
+    for (int e = 0; e < mesh.cageEdgeCount(); ++e) {
+        const int a = mesh.cageEdgeVertex(e, 0), b = mesh.cageEdgeVertex(e, 1);
+        const std::pair ends{std::min(a, b), std::max(a, b)};
+        if (ends.first == ends.second) {  // degenerate: its own
+            EXPECT_EQ(mesh.sharedEdge(e), e);
+            continue;
+        }
+        const int expected = first.emplace(ends, e).first->second;
+        EXPECT_EQ(mesh.sharedEdge(e), expected) << "edge " << e;
+        EXPECT_EQ(&mesh.spansOnCageEdge(e), &mesh.spansOnCageEdge(expected));
+        copies += expected != e;
+    }
+    EXPECT_EQ(copies, 4);  // four pairs, each used twice by one face (three faces)
 }
 
 TEST(SubdivisionMesh, LoopNeedsTriangles) {
