@@ -1,6 +1,6 @@
 #pragma once
-// Heat maps of the rasterizer's work (SPEC section 6): per pixel and per tile, written as PNG with
-// a colour scale (perceptually ordered, dark = little work, bright = much) and a legend bar
+// Heat maps of the rasterizer's work (DESIGN.md section 6): per pixel and per tile, written as PNG
+// with a colour scale (perceptually ordered, dark = little work, bright = much) and a legend bar
 // labelled with the quantity, its minimum and its maximum. Text is drawn by OpenImageIO.
 
 #include <string>

@@ -1,5 +1,5 @@
 #pragma once
-// Error of an image against a converged one (SPEC section 9).
+// Error of an image against a converged one (DESIGN.md section 9).
 //
 // - RMSE and PSNR on linear RGB clamped to [0, 1], over every pixel and channel; PSNR uses a peak
 //   of 1: 10 log10(1 / MSE), infinite for identical images.

@@ -1,5 +1,5 @@
 #pragma once
-// The stochastic rasterizers the patent improves on (SPEC section 5): every triangle's screen
+// The stochastic rasterizers the patent improves on (DESIGN.md section 5): every triangle's screen
 // bounds, and every sample inside them tested against the triangle at the sample's time. Three
 // ways to bound, sharing the rest:
 //

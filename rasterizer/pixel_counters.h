@@ -1,5 +1,5 @@
 #pragma once
-// Per-pixel and per-tile work of the rasterizer, for heat maps (SPEC section 6).
+// Per-pixel and per-tile work of the rasterizer, for heat maps (DESIGN.md section 6).
 //
 // Representation
 // --------------

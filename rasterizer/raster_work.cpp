@@ -43,7 +43,7 @@ const RasterCounters& rasterCounters() {
 
 const RatioCounter& sampleTestEfficiency() {
     static const RatioCounter ratio{"RS/Sample test efficiency",
-                                    "Visibility samples per sample tested (SPEC section 8)",
+                                    "Visibility samples per sample tested (DESIGN.md section 8)",
                                     visibilitySamplesCounter, samplesTestedCounter};
     return ratio;
 }

@@ -1,5 +1,5 @@
 #pragma once
-// The patch rasterizer's work counts (SPEC section 8): what it counts, defined once.
+// The patch rasterizer's work counts (DESIGN.md section 8): what it counts, defined once.
 //
 // Representation
 // --------------

@@ -1,5 +1,5 @@
 #pragma once
-// Transparent fragments kept per sample for the output merger (SPEC section 6).
+// Transparent fragments kept per sample for the output merger (DESIGN.md section 6).
 //
 // Representation
 // --------------

@@ -4,12 +4,12 @@
 // Representation
 // --------------
 // One record per sample, pixel-major: sample s of pixel (x, y) is record (y * width + x) * spp + s.
-// A record is the nearest visibility sample so far (SPEC 4.8): depth (camera -z), patch, triangle,
-// the barycentric weights of the triangle's vertices 1 and 2, and the sample's time t and lens
-// position (u, v), so the back end shades it at its time without going back to the sample set.
-// 32 bytes. Hits compare by (depth, patch, triangle), so the buffer's final content does not
-// depend on the order hits arrive in, and a sample exactly on an edge shared by two triangles
-// resolves the same way in every method.
+// A record is the nearest visibility sample so far (DESIGN.md section 4.8): depth (camera -z),
+// patch, triangle, the barycentric weights of the triangle's vertices 1 and 2, and the sample's
+// time t and lens position (u, v), so the back end shades it at its time without going back to the
+// sample set. 32 bytes. Hits compare by (depth, patch, triangle), so the buffer's final content
+// does not depend on the order hits arrive in, and a sample exactly on an edge shared by two
+// triangles resolves the same way in every method.
 
 #include <cstdint>
 #include <limits>

@@ -537,8 +537,9 @@ TEST(Cli, PlotScriptDrawsExploreFiguresFromAHandWrittenCsv) {
               0);
 }
 
-// SPEC 13: one frame split across ranks by screen tiles, one output, equal to a local render byte
-// for byte (images, heat maps, stats); for both visibility methods and with transparency.
+// DESIGN.md section 13: one frame split across ranks by screen tiles, one output, equal to a local
+// render byte for byte (images, heat maps, stats); for both visibility methods and with
+// transparency.
 TEST(Cli, MpiRenderSplitsAFrameAndEqualsTheLocalRender) {
     if (std::system("command -v mpirun > /dev/null 2>&1") != 0) GTEST_SKIP() << "no mpirun";
     const std::string dir = patchsim::test::temporaryDirectory() + "/mpi-render";

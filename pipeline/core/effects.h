@@ -1,5 +1,5 @@
 #pragma once
-// Which effects a scene calls for (SPEC section 7), and the simulation mode chosen from them.
+// Which effects a scene calls for (DESIGN.md section 7), and the simulation mode chosen from them.
 // Motion: any control point or the camera moves during the shutter. Shading over time: a
 // material's colour or opacity changes during the shutter (samples then need a time even when
 // nothing moves). Defocus: aperture > 0. Transparency: any opacity < 1. A study can switch an

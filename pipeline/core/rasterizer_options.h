@@ -1,5 +1,5 @@
 #pragma once
-// Options of the patch rasterizer (SPEC section 4), documented in docs/SCENES.md.
+// Options of the patch rasterizer (DESIGN.md section 4), documented in docs/SCENES.md.
 //
 // Representation
 // --------------

@@ -1,7 +1,7 @@
 #pragma once
-// The visibility methods patchsim compares (SPEC section 5): their names, whether they are exact
-// (the same visibility as the brute-force reference for the same samples) or approximate, and the
-// work they come from. One table; the command line, the sweep and the docs read it.
+// The visibility methods patchsim compares (DESIGN.md section 5): their names, whether they are
+// exact (the same visibility as the brute-force reference for the same samples) or approximate, and
+// the work they come from. One table; the command line, the sweep and the docs read it.
 
 #include <cstdint>
 #include <string>

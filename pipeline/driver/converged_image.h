@@ -1,5 +1,5 @@
 #pragma once
-// The converged image a sweep measures error against (SPEC section 9): an exact method (the
+// The converged image a sweep measures error against (DESIGN.md section 9): an exact method (the
 // patch method) at a high sample count, cached on disk.
 //
 // Representation

@@ -1,5 +1,5 @@
 #pragma once
-// The rows of a frame one rank rasterized, packed for rank 0 (SPEC section 13: one frame split
+// The rows of a frame one rank rasterized, packed for rank 0 (DESIGN.md section 13: one frame split
 // across ranks by screen tiles).
 //
 // Representation

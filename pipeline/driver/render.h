@@ -5,10 +5,10 @@
 // t-fragment at its time, blends transparent layers, resolves, and writes the AOVs. Images and
 // every counter are the same for any thread count.
 //
-// A frame can be split between processes (MPI ranks, SPEC section 13) by screen tiles: each rank
-// runs the front end, rasterizes the tile-row classes it owns, and sends their rows and work to
-// rank 0, which puts the frame together, shades it and writes the one output. The result equals a
-// local render byte for byte.
+// A frame can be split between processes (MPI ranks, DESIGN.md section 13) by screen tiles: each
+// rank runs the front end, rasterizes the tile-row classes it owns, and sends their rows and work
+// to rank 0, which puts the frame together, shades it and writes the one output. The result equals
+// a local render byte for byte.
 
 #include <functional>
 #include <memory>

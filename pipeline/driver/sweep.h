@@ -1,5 +1,5 @@
 #pragma once
-// `patchsim sweep`: what accuracy costs in time (SPEC section 9). Every scene, at every blur
+// `patchsim sweep`: what accuracy costs in time (DESIGN.md section 9). Every scene, at every blur
 // level, is rendered by every method at every sample count; each run's error against the
 // converged image (converged_image.h), its wall time (median of repeats), its modelled cycles
 // and its work go into one CSV row. Images of every run are kept, and plots are drawn by

@@ -1,6 +1,6 @@
 #pragma once
 // The cycle-approximate timing model: a streaming flow of patches through the eight pipeline
-// stages (SPEC section 8).
+// stages (DESIGN.md section 8).
 //
 // Representation
 // --------------

@@ -1,4 +1,4 @@
-// The hard cases of SPEC section 10, one named test each. Every case renders with the patch
+// The hard cases of DESIGN.md section 10, one named test each. Every case renders with the patch
 // rasterizer and the reference method and checks (tests/render_compare.h): no NaN or Inf in any
 // depth, image or AOV; the patch method equals the reference sample for sample, so no tile test
 // or time interval ever rejected a hit; identical images and counters for 1 and 2 threads and
