@@ -101,7 +101,7 @@ void expectCleanFailure(const std::string& scene, const std::string& message) {
 }
 
 TEST(Cli, BadInputFailsCleanly) {
-    expectCleanFailure("/nonexistent.json", "/nonexistent.json: cannot open");
+    expectCleanFailure("/nonexistent.json", "/nonexistent.json: scene: cannot open");
     const std::string bad = writeFile("syntax.json", "{\n  \"objects\": [,]\n}\n");
     expectCleanFailure(bad, "syntax.json: line 2, column 15: JSON syntax error");
     const std::string unknown =
