@@ -15,11 +15,11 @@
 #include <memory>
 #include <string>
 
-#include "pipeline/core/counters.h"
-#include "pipeline/core/parallel.h"
-#include "pipeline/core/scene_reader.h"
+#include "core/counters.h"
+#include "core/parallel.h"
+#include "core/scene_reader.h"
 #include "pipeline/driver/render.h"
-#include "rasterizer/frame_rasterizer.h"
+#include "rasterizer/patent/frame_rasterizer.h"
 #include "tessellator/front_end.h"
 
 namespace {

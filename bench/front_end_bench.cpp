@@ -3,7 +3,7 @@
 
 #include <benchmark/benchmark.h>
 
-#include "pipeline/core/scene_reader.h"
+#include "core/scene_reader.h"
 #include "tessellator/front_end.h"
 
 namespace {

@@ -3,10 +3,10 @@
 
 #include <benchmark/benchmark.h>
 
-#include "pipeline/core/counters.h"
-#include "pipeline/core/scene_reader.h"
+#include "core/counters.h"
+#include "core/scene_reader.h"
 #include "pipeline/driver/render.h"
-#include "rasterizer/frame_rasterizer.h"
+#include "rasterizer/patent/frame_rasterizer.h"
 #include "tessellator/front_end.h"
 
 namespace {

@@ -7,9 +7,9 @@
 
 #include <benchmark/benchmark.h>
 
-#include "pipeline/core/counters.h"
-#include "pipeline/core/samples.h"
-#include "pipeline/core/scene_reader.h"
+#include "core/counters.h"
+#include "core/samples.h"
+#include "core/scene_reader.h"
 #include "pipeline/driver/render.h"
 
 namespace {

@@ -4,8 +4,8 @@
 #include <cstdint>
 #include <string_view>
 
-#include "pipeline/core/error.h"
-#include "pipeline/core/scene_reader.h"
+#include "core/error.h"
+#include "core/scene_reader.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
     const std::string_view text(reinterpret_cast<const char*>(data), size);

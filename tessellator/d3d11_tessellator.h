@@ -24,7 +24,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "pipeline/core/tessellation_modes.h"
+#include "core/tessellation_modes.h"
 
 namespace patchsim {
 

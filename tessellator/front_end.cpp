@@ -4,9 +4,9 @@
 #include <cmath>
 #include <exception>
 
-#include "pipeline/core/counters.h"
-#include "pipeline/core/error.h"
-#include "pipeline/core/parallel.h"
+#include "core/counters.h"
+#include "core/error.h"
+#include "core/parallel.h"
 #include "tessellator/patch_boundary.h"
 
 namespace patchsim {

@@ -16,8 +16,8 @@
 #include <memory>
 #include <vector>
 
-#include "pipeline/core/camera.h"
-#include "pipeline/core/scene.h"
+#include "core/camera.h"
+#include "core/scene.h"
 #include "tessellator/d3d11_tessellator.h"
 #include "tessellator/hull_shader.h"
 #include "tessellator/subdivision_mesh.h"

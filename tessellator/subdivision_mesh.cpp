@@ -13,9 +13,9 @@
 #include <stdexcept>
 #include <unordered_map>
 
-#include "pipeline/core/counters.h"
-#include "pipeline/core/error.h"
-#include "pipeline/core/parallel.h"
+#include "core/counters.h"
+#include "core/error.h"
+#include "core/parallel.h"
 #include "tessellator/far_limit_evaluator.h"
 
 namespace patchsim {

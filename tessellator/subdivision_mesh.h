@@ -43,8 +43,8 @@
 #include <unordered_map>
 #include <vector>
 
-#include "pipeline/core/obj_reader.h"
-#include "pipeline/core/scene.h"
+#include "core/obj_reader.h"
+#include "core/scene.h"
 #include "tessellator/limit_stencil.h"
 
 namespace patchsim {

@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <limits>
 
-#include "pipeline/core/counters.h"
+#include "core/counters.h"
 
 namespace patchsim {
 

@@ -6,9 +6,9 @@
 
 #include <vector>
 
-#include "pipeline/core/math.h"
-#include "pipeline/core/obj_reader.h"
-#include "pipeline/core/scene.h"
+#include "core/math.h"
+#include "core/obj_reader.h"
+#include "core/scene.h"
 
 namespace patchsim {
 

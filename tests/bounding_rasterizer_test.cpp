@@ -1,9 +1,9 @@
-#include "rasterizer/bounding_rasterizer.h"
+#include "rasterizer/baselines/bounding_rasterizer.h"
 
 #include <gtest/gtest.h>
 
-#include "pipeline/core/counters.h"
-#include "pipeline/core/scene_reader.h"
+#include "core/counters.h"
+#include "core/scene_reader.h"
 #include "pipeline/driver/render.h"
 #include "tests/render_compare.h"
 #include "tests/test_paths.h"
@@ -11,7 +11,7 @@
 namespace patchsim {
 namespace {
 
-RenderResult renderWith(SceneDesc scene, VisibilityMethod method, int strata = 4) {
+RenderResult renderWith(SceneDesc scene, const VisibilityMethod* method, int strata = 4) {
     RenderOptions options;
     options.method = method;
     options.timeStrata = strata;
@@ -32,16 +32,14 @@ SceneDesc small(const std::string& path) {
 TEST(BoundingRasterizer, TriangleBBoxAndIntervalEqualThePatchMethodSampleForSample) {
     for (const std::string& path : test::sceneFiles()) {
         const SceneDesc scene = small(path.substr(test::sourcePath("").size()));
-        const RenderResult patch = renderWith(scene, VisibilityMethod::Patch);
+        const RenderResult patch = renderWith(scene, &methodNamed("patch"));
         for (auto [method, strata] :
-             {std::pair{VisibilityMethod::TriangleBBox, 4},
-              std::pair{VisibilityMethod::Interval, 4}, std::pair{VisibilityMethod::Interval, 1},
-              std::pair{VisibilityMethod::Interval, 7}}) {
+             {std::pair{&methodNamed("triangle-bbox"), 4}, std::pair{&methodNamed("interval"), 4},
+              std::pair{&methodNamed("interval"), 1}, std::pair{&methodNamed("interval"), 7}}) {
             const test::Comparison c = test::compare(patch, renderWith(scene, method, strata));
             EXPECT_GT(c.hits, 0u) << path;
-            EXPECT_EQ(c.mismatches, 0u)
-                << path << " " << visibilityMethodName(method) << " K=" << strata << ": "
-                << c.mismatches << " of " << c.samples << " samples differ";
+            EXPECT_EQ(c.mismatches, 0u) << path << " " << method->name() << " K=" << strata << ": "
+                                        << c.mismatches << " of " << c.samples << " samples differ";
         }
     }
 }
@@ -50,9 +48,9 @@ TEST(BoundingRasterizer, TriangleBBoxAndIntervalEqualThePatchMethodSampleForSamp
 // sees the same; only the sample set (one time per index in every pixel) makes it approximate.
 TEST(BoundingRasterizer, InterleavedIsExactForItsOwnSamples) {
     SceneDesc scene = small("scenes/motion_defocus.json");
-    const RenderResult interleaved = renderWith(scene, VisibilityMethod::Interleaved);
+    const RenderResult interleaved = renderWith(scene, &methodNamed("interleaved"));
     scene.film.sampler = SamplePattern::Interleaved;
-    const RenderResult patch = renderWith(scene, VisibilityMethod::Patch);
+    const RenderResult patch = renderWith(scene, &methodNamed("patch"));
     const test::Comparison c = test::compare(patch, interleaved);
     EXPECT_GT(c.hits, 0u);
     EXPECT_EQ(c.mismatches, 0u);
@@ -72,20 +70,20 @@ TEST(BoundingRasterizer, TighterBoundsTestFewerSamplesAndThePatchMethodGainsWith
     SceneDesc base = small("scenes/motion.json");
     base.objects.resize(1);  // the torus sliding across the screen
     base.film = {160, 120, 2, 1};
-    auto tested = [&](const SceneDesc& scene, VisibilityMethod m) {
+    auto tested = [&](const SceneDesc& scene, const VisibilityMethod* m) {
         CounterRegistry::instance().reset();
         renderWith(scene, m);
         const CounterValues c = CounterRegistry::instance().snapshot();
-        return double(c[sampleTestEfficiencyOf(m).denominator]);
+        return double(c[m->sampleTestEfficiency().denominator]);
     };
     double previousRatio = 0;
     for (float scale : {0.25f, 1.0f, 4.0f}) {
         SceneDesc scene = base;
         for (ObjectDesc& o : scene.objects)
             o.close.translate = o.open.translate + scale * (o.close.translate - o.open.translate);
-        const double bbox = tested(scene, VisibilityMethod::TriangleBBox);
-        const double interval = tested(scene, VisibilityMethod::Interval);
-        const double patch = tested(scene, VisibilityMethod::Patch);
+        const double bbox = tested(scene, &methodNamed("triangle-bbox"));
+        const double interval = tested(scene, &methodNamed("interval"));
+        const double patch = tested(scene, &methodNamed("patch"));
         EXPECT_LT(interval, bbox) << scale;
         const double ratio = bbox / patch;
         EXPECT_GT(ratio, previousRatio)

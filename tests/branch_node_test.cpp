@@ -1,11 +1,11 @@
-#include "rasterizer/branch_node.h"
+#include "rasterizer/patent/branch_node.h"
 
 #include <gtest/gtest.h>
 
-#include "pipeline/core/scene_reader.h"
-#include "rasterizer/patch_rasterizer.h"
-#include "rasterizer/tile_frustum.h"
-#include "rasterizer/tile_traversal.h"
+#include "core/scene_reader.h"
+#include "rasterizer/patent/patch_rasterizer.h"
+#include "rasterizer/patent/tile_frustum.h"
+#include "rasterizer/patent/tile_traversal.h"
 #include "tessellator/front_end.h"
 #include "tests/patch_setup.h"
 #include "tests/test_paths.h"

@@ -1,4 +1,4 @@
-#include "pipeline/core/counters.h"
+#include "core/counters.h"
 
 #include <gtest/gtest.h>
 
@@ -7,7 +7,7 @@
 #include <sstream>
 #include <thread>
 
-#include "rasterizer/raster_work.h"
+#include "rasterizer/patent/raster_work.h"
 #include "tests/test_paths.h"
 
 namespace patchsim {

@@ -4,9 +4,9 @@
 
 #include <sstream>
 
-#include "pipeline/core/error.h"
-#include "pipeline/core/hardware_config.h"
-#include "pipeline/core/scene_reader.h"
+#include "core/error.h"
+#include "core/scene_reader.h"
+#include "pipeline/timing/hardware_config.h"
 #include "tests/test_paths.h"
 
 namespace patchsim {

@@ -6,8 +6,8 @@
 
 #include <random>
 
-#include "pipeline/core/obj_reader.h"
-#include "pipeline/core/scene_reader.h"
+#include "core/obj_reader.h"
+#include "core/scene_reader.h"
 #include "tessellator/subdivision_mesh.h"
 #include "tests/test_paths.h"
 

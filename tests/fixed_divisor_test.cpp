@@ -1,4 +1,4 @@
-#include "pipeline/core/fixed_divisor.h"
+#include "core/fixed_divisor.h"
 
 #include <gtest/gtest.h>
 

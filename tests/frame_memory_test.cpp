@@ -1,4 +1,4 @@
-#include "pipeline/core/frame_memory.h"
+#include "core/frame_memory.h"
 
 #include <gtest/gtest.h>
 
@@ -7,10 +7,10 @@
 #include <cstring>
 #include <string>
 
-#include "backend/image.h"
-#include "pipeline/core/scene_reader.h"
+#include "backend/images/image.h"
+#include "core/scene_reader.h"
 #include "pipeline/driver/render.h"
-#include "rasterizer/visibility_buffer.h"
+#include "rasterizer/common/visibility_buffer.h"
 #include "tests/test_paths.h"
 
 #if defined(__linux__)

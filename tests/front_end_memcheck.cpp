@@ -5,8 +5,8 @@
 
 #include <cstdio>
 
-#include "pipeline/core/error.h"
-#include "pipeline/core/scene_reader.h"
+#include "core/error.h"
+#include "core/scene_reader.h"
 #include "tessellator/front_end.h"
 
 int main(int argc, char** argv) {

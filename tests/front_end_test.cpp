@@ -13,9 +13,9 @@
 #include <set>
 #include <sstream>
 
-#include "pipeline/core/effects.h"
-#include "pipeline/core/error.h"
-#include "pipeline/core/scene_reader.h"
+#include "core/effects.h"
+#include "core/error.h"
+#include "core/scene_reader.h"
 #include "pipeline/driver/tessellation_export.h"
 #include "tests/test_paths.h"
 

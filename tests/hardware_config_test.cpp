@@ -1,10 +1,10 @@
-#include "pipeline/core/hardware_config.h"
+#include "pipeline/timing/hardware_config.h"
 
 #include <gtest/gtest.h>
 
 #include <nlohmann/json.hpp>
 
-#include "pipeline/core/error.h"
+#include "core/error.h"
 #include "tests/test_paths.h"
 
 namespace patchsim {

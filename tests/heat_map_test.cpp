@@ -1,4 +1,4 @@
-#include "backend/heat_map.h"
+#include "backend/images/heat_map.h"
 
 #include <gtest/gtest.h>
 
@@ -6,7 +6,7 @@
 #include <filesystem>
 #include <limits>
 
-#include "backend/image.h"
+#include "backend/images/image.h"
 #include "tests/test_paths.h"
 
 namespace patchsim {

@@ -1,11 +1,11 @@
-#include "rasterizer/hierarchy_orders.h"
+#include "rasterizer/patent/hierarchy_orders.h"
 
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cstring>
 
-#include "pipeline/core/scene_reader.h"
+#include "core/scene_reader.h"
 #include "tessellator/front_end.h"
 #include "tests/test_paths.h"
 

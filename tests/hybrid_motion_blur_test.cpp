@@ -1,12 +1,12 @@
-#include "backend/hybrid_motion_blur.h"
+#include "backend/image_space/hybrid_motion_blur.h"
 
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cmath>
 
-#include "pipeline/core/counters.h"
-#include "pipeline/core/scene_reader.h"
+#include "core/counters.h"
+#include "core/scene_reader.h"
 #include "pipeline/driver/render.h"
 #include "pipeline/driver/sweep.h"
 #include "tests/quick_sweep.h"
@@ -28,7 +28,7 @@ SceneDesc hybridScene(int w, int h, int spp) {
 TEST(Hybrid, RevealedBackgroundBeatsThePostProcessAgainstTheConvergedImage) {
     const std::vector<SweepRow> rows =
         test::quickSweep(hybridScene(160, 120, 4),
-                         {VisibilityMethod::Postprocess, VisibilityMethod::Hybrid}, {4}, "hybrid");
+                         {&methodNamed("postprocess"), &methodNamed("hybrid")}, {4}, "hybrid");
     ASSERT_EQ(rows.size(), 2u);
     EXPECT_GT(rows[1].psnr, rows[0].psnr + 1.0)
         << rows[0].psnr << " dB post-process, " << rows[1].psnr << " dB hybrid";
@@ -39,9 +39,9 @@ TEST(Hybrid, RevealedBackgroundBeatsThePostProcessAgainstTheConvergedImage) {
 // More samples only antialias the sharp frame: a fraction of the exact method's gain, and by
 // 16 spp the exact method is ahead (here 1.1 dB against 7.9 dB, 37.4 against 39.7 dB).
 TEST(Hybrid, MoreSamplesDoNotConvergeItWhereTheExactMethodConverges) {
-    const std::vector<SweepRow> rows = test::quickSweep(
-        hybridScene(160, 120, 4), {VisibilityMethod::Patch, VisibilityMethod::Hybrid}, {4, 16},
-        "hybrid-converge");
+    const std::vector<SweepRow> rows =
+        test::quickSweep(hybridScene(160, 120, 4), {&methodNamed("patch"), &methodNamed("hybrid")},
+                         {4, 16}, "hybrid-converge");
     ASSERT_EQ(rows.size(), 4u);  // patch 4, 16; hybrid 4, 16
     const double patchGain = rows[1].psnr - rows[0].psnr, hybridGain = rows[3].psnr - rows[2].psnr;
     EXPECT_GT(patchGain, 4.0) << "patch: " << rows[0].psnr << ", " << rows[1].psnr;
@@ -52,7 +52,7 @@ TEST(Hybrid, MoreSamplesDoNotConvergeItWhereTheExactMethodConverges) {
 TEST(Hybrid, MasksMovingEdgesAndRevealsWhatIsBehindThem) {
     CounterRegistry::instance().reset();
     RenderOptions options;
-    options.method = VisibilityMethod::Hybrid;
+    options.method = &methodNamed("hybrid");
     options.threads = 1;
     const RenderResult r = renderScene(hybridScene(160, 120, 2), options);
     const CounterValues c = CounterRegistry::instance().snapshot();
@@ -83,10 +83,10 @@ TEST(Hybrid, RevealsNothingWhereNothingIsBehindTheMovingObjects) {
     for (const SceneDesc& scene : {motion, torus}) {
         RenderOptions options;
         options.threads = 1;
-        options.method = VisibilityMethod::Postprocess;
+        options.method = &methodNamed("postprocess");
         const RenderResult post = renderScene(scene, options);
         CounterRegistry::instance().reset();
-        options.method = VisibilityMethod::Hybrid;
+        options.method = &methodNamed("hybrid");
         const RenderResult hybrid = renderScene(scene, options);
         const CounterValues c = CounterRegistry::instance().snapshot();
         EXPECT_GT(c.byName("HY/Masked pixels"), 0) << scene.objects.size() << " objects";
@@ -194,9 +194,9 @@ TEST(Hybrid, HolesInTheRayMaskLeaveNoSeams) {
 // Tan et al. 2022, Table 1: the hybrid's SSIM is above the post-process's too (0.92 against 0.91
 // there). Seams between ray-revealed and post-processed pixels would cost it that.
 TEST(Hybrid, StructuralSimilarityIsAtLeastThePostProcesssOnTheBar) {
-    const std::vector<SweepRow> rows = test::quickSweep(
-        hybridScene(160, 120, 4), {VisibilityMethod::Postprocess, VisibilityMethod::Hybrid}, {4},
-        "hybrid-ssim");
+    const std::vector<SweepRow> rows =
+        test::quickSweep(hybridScene(160, 120, 4),
+                         {&methodNamed("postprocess"), &methodNamed("hybrid")}, {4}, "hybrid-ssim");
     ASSERT_EQ(rows.size(), 2u);
     EXPECT_GE(rows[1].ssim, rows[0].ssim)
         << rows[0].ssim << " post-process, " << rows[1].ssim << " hybrid";
@@ -207,9 +207,9 @@ TEST(Hybrid, AStillSceneRendersAsThePatchMethodDoes) {
     for (ObjectDesc& o : scene.objects) o.close = o.open;
     RenderOptions options;
     options.threads = 1;
-    options.method = VisibilityMethod::Hybrid;
+    options.method = &methodNamed("hybrid");
     const RenderResult hybrid = renderScene(scene, options);
-    options.method = VisibilityMethod::Patch;
+    options.method = &methodNamed("patch");
     const RenderResult patch = renderScene(scene, options);
     EXPECT_EQ(hybrid.frame.color.rgb, patch.frame.color.rgb);
 }

@@ -1,4 +1,4 @@
-#include "backend/image_metrics.h"
+#include "backend/images/image_metrics.h"
 
 #include <gtest/gtest.h>
 

@@ -9,7 +9,7 @@
 #include <fstream>
 #include <set>
 
-#include "pipeline/core/error.h"
+#include "core/error.h"
 #include "tests/test_paths.h"
 
 namespace patchsim {

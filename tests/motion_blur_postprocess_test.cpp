@@ -1,12 +1,12 @@
-#include "backend/motion_blur_postprocess.h"
+#include "backend/image_space/motion_blur_postprocess.h"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <sstream>
 
-#include "pipeline/core/counters.h"
-#include "pipeline/core/scene_reader.h"
+#include "core/counters.h"
+#include "core/scene_reader.h"
 #include "pipeline/driver/render.h"
 #include "pipeline/driver/sweep.h"
 #include "tests/quick_sweep.h"
@@ -82,7 +82,7 @@ SceneDesc small(const char* path) {
     return scene;
 }
 
-RenderResult renderWith(const SceneDesc& scene, VisibilityMethod m) {
+RenderResult renderWith(const SceneDesc& scene, const VisibilityMethod* m) {
     RenderOptions o;
     o.method = m;
     o.threads = 1;
@@ -93,8 +93,8 @@ TEST(Postprocess, AStillSceneRendersAsThePatchMethodDoes) {
     SceneDesc scene = small("scenes/motion.json");
     for (ObjectDesc& o : scene.objects) o.close = o.open;
     scene.camera.close = scene.camera.open;
-    const RenderResult post = renderWith(scene, VisibilityMethod::Postprocess);
-    const RenderResult patch = renderWith(scene, VisibilityMethod::Patch);
+    const RenderResult post = renderWith(scene, &methodNamed("postprocess"));
+    const RenderResult patch = renderWith(scene, &methodNamed("patch"));
     EXPECT_FALSE(post.effects.motion);
     EXPECT_EQ(post.frame.color.rgb, patch.frame.color.rgb);
 }
@@ -102,7 +102,7 @@ TEST(Postprocess, AStillSceneRendersAsThePatchMethodDoes) {
 TEST(Postprocess, AMovingSceneIsOneSharpFrameThenTheFilter) {
     const SceneDesc scene = small("scenes/motion.json");
     CounterRegistry::instance().reset();
-    const RenderResult post = renderWith(scene, VisibilityMethod::Postprocess);
+    const RenderResult post = renderWith(scene, &methodNamed("postprocess"));
     const CounterValues c = CounterRegistry::instance().snapshot();
     EXPECT_GT(c.byName("PP/Blurred pixels"), 0);
     EXPECT_EQ(c.byName("PP/Pixels"), 64 * 48);
@@ -123,7 +123,7 @@ TEST(Postprocess, AMovingSceneIsOneSharpFrameThenTheFilter) {
 TEST(Postprocess, BlursAMovingTransparentObject) {
     const SceneDesc scene = small("scenes/transparency.json");
     CounterRegistry::instance().reset();
-    const RenderResult post = renderWith(scene, VisibilityMethod::Postprocess);
+    const RenderResult post = renderWith(scene, &methodNamed("postprocess"));
     const CounterValues c = CounterRegistry::instance().snapshot();
     EXPECT_GT(c.byName("PP/Blurred pixels"), 0);
     int moving = 0;
@@ -147,7 +147,7 @@ TEST(Postprocess, LosesTheBackgroundBehindMovingObjects) {
     scene.film.width = 160;
     scene.film.height = 120;
     const std::vector<SweepRow> rows = test::quickSweep(
-        scene, {VisibilityMethod::Patch, VisibilityMethod::Postprocess}, {4}, "postprocess");
+        scene, {&methodNamed("patch"), &methodNamed("postprocess")}, {4}, "postprocess");
     ASSERT_EQ(rows.size(), 2u);
     EXPECT_LT(rows[1].psnr, rows[0].psnr - 2.0)
         << rows[0].psnr << " dB patch, " << rows[1].psnr << " dB post-process";

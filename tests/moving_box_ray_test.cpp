@@ -1,4 +1,4 @@
-#include "rasterizer/moving_box_ray.h"
+#include "rasterizer/patent/moving_box_ray.h"
 
 #include <gtest/gtest.h>
 

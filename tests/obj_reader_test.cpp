@@ -1,8 +1,8 @@
-#include "pipeline/core/obj_reader.h"
+#include "core/obj_reader.h"
 
 #include <gtest/gtest.h>
 
-#include "pipeline/core/error.h"
+#include "core/error.h"
 #include "tests/test_paths.h"
 
 namespace patchsim {

@@ -1,4 +1,4 @@
-#include "pipeline/core/parallel.h"
+#include "core/parallel.h"
 
 #include <gtest/gtest.h>
 

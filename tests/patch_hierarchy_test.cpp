@@ -1,11 +1,11 @@
-#include "rasterizer/patch_hierarchy.h"
+#include "rasterizer/patent/patch_hierarchy.h"
 
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <random>
 
-#include "pipeline/core/scene_reader.h"
+#include "core/scene_reader.h"
 #include "tests/test_paths.h"
 
 namespace patchsim {

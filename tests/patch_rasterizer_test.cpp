@@ -1,4 +1,4 @@
-#include "rasterizer/patch_rasterizer.h"
+#include "rasterizer/patent/patch_rasterizer.h"
 
 #include <gtest/gtest.h>
 
@@ -7,10 +7,10 @@
 #include <random>
 #include <tuple>
 
-#include "pipeline/core/counters.h"
-#include "pipeline/core/scene_reader.h"
+#include "core/counters.h"
+#include "core/scene_reader.h"
 #include "pipeline/driver/render.h"
-#include "rasterizer/reference_rasterizer.h"
+#include "rasterizer/baselines/reference_rasterizer.h"
 #include "tests/render_compare.h"
 #include "tests/test_paths.h"
 
@@ -24,7 +24,7 @@ SceneDesc smallScene(SceneDesc scene, int width = 48, int height = 36, int spp =
     return scene;
 }
 
-RenderResult renderWith(const SceneDesc& scene, VisibilityMethod method, int threads = 1) {
+RenderResult renderWith(const SceneDesc& scene, const VisibilityMethod* method, int threads = 1) {
     RenderOptions options;
     options.method = method;
     options.threads = threads;
@@ -37,8 +37,8 @@ using test::Comparison;
 TEST(PatchRasterizer, MatchesTheReferenceOnEveryShippedScene) {
     for (const std::string& path : test::sceneFiles()) {
         const SceneDesc scene = smallScene(readSceneFile(path));
-        const RenderResult patch = renderWith(scene, VisibilityMethod::Patch);
-        const RenderResult reference = renderWith(scene, VisibilityMethod::Reference);
+        const RenderResult patch = renderWith(scene, &methodNamed("patch"));
+        const RenderResult reference = renderWith(scene, &methodNamed("reference"));
         const Comparison c = compare(patch, reference);
         EXPECT_GT(c.hits, c.samples / 20) << path << ": the scene should cover the frame";
         EXPECT_EQ(c.mismatches, 0u)
@@ -49,7 +49,7 @@ TEST(PatchRasterizer, MatchesTheReferenceOnEveryShippedScene) {
 TEST(PatchRasterizer, EveryOptionGivesTheReferenceVisibility) {
     const SceneDesc base =
         smallScene(readSceneFile(test::sourcePath("scenes/motion_defocus.json")));
-    const RenderResult reference = renderWith(base, VisibilityMethod::Reference);
+    const RenderResult reference = renderWith(base, &methodNamed("reference"));
     std::vector<std::pair<std::string, RasterizerOptions>> variants;
     for (BranchMethod m : {BranchMethod::Root, BranchMethod::FirstSplit, BranchMethod::Bitmask}) {
         RasterizerOptions o;
@@ -94,7 +94,7 @@ TEST(PatchRasterizer, EveryOptionGivesTheReferenceVisibility) {
     for (const auto& [name, options] : variants) {
         SceneDesc scene = base;
         scene.rasterizer = options;
-        const RenderResult patch = renderWith(scene, VisibilityMethod::Patch);
+        const RenderResult patch = renderWith(scene, &methodNamed("patch"));
         EXPECT_EQ(compare(patch, reference).mismatches, 0u) << name;
     }
 }
@@ -109,16 +109,16 @@ TEST(PatchRasterizer, MergedPatchesAndEveryBoundsSpaceGiveTheSameSamples) {
     SceneDesc scene = smallScene(readSceneFile(test::sourcePath("scenes/motion_defocus.json")));
     scene.tessellation.targetEdgePixels = 0;  // small patches: factor 2
     scene.tessellation.factor = 2.0f;
-    const RenderResult reference = renderWith(scene, VisibilityMethod::Reference);
+    const RenderResult reference = renderWith(scene, &methodNamed("reference"));
     CounterRegistry::instance().reset();
-    const RenderResult alone = renderWith(scene, VisibilityMethod::Patch);
+    const RenderResult alone = renderWith(scene, &methodNamed("patch"));
     const std::int64_t groupsAlone = counted("RS/Groups");
     EXPECT_EQ(counted("RS/Patches merged"), 0);
     EXPECT_EQ(counted("RS/Nodes converted"), 0);
     for (int below : {16, 64, 256}) {
         scene.rasterizer.mergeTrianglesBelow = below;
         CounterRegistry::instance().reset();
-        const RenderResult merged = renderWith(scene, VisibilityMethod::Patch, 2);
+        const RenderResult merged = renderWith(scene, &methodNamed("patch"), 2);
         EXPECT_EQ(compare(merged, reference).mismatches, 0u) << below;
         EXPECT_GT(counted("RS/Patches merged"), 0) << below;
         EXPECT_LT(counted("RS/Groups"), groupsAlone) << below;
@@ -128,7 +128,7 @@ TEST(PatchRasterizer, MergedPatchesAndEveryBoundsSpaceGiveTheSameSamples) {
     for (BoundsSpace space : {BoundsSpace::Homogeneous2D, BoundsSpace::Screen2D}) {
         scene.rasterizer.boundsSpace = space;
         CounterRegistry::instance().reset();
-        const RenderResult r = renderWith(scene, VisibilityMethod::Patch);
+        const RenderResult r = renderWith(scene, &methodNamed("patch"));
         EXPECT_EQ(compare(r, reference).mismatches, 0u) << boundsSpaceName(space);
         EXPECT_EQ(counted("RS/Nodes converted"), counted("RS/Nodes built"));
     }
@@ -156,8 +156,8 @@ TEST(PatchRasterizer, MatchesTheReferenceOnRandomMovingDefocusedPatches) {
         torus.close.rotateDegrees = torus.open.rotateDegrees + 40.0f * Vec3(u(rng), u(rng), u(rng));
         scene.objects.push_back(torus);
         scene.rasterizer.boundsSpace = BoundsSpace(trial % 3);
-        const RenderResult patch = renderWith(scene, VisibilityMethod::Patch);
-        const RenderResult reference = renderWith(scene, VisibilityMethod::Reference);
+        const RenderResult patch = renderWith(scene, &methodNamed("patch"));
+        const RenderResult reference = renderWith(scene, &methodNamed("reference"));
         const Comparison c = compare(patch, reference);
         EXPECT_EQ(c.mismatches, 0u) << "trial " << trial;
     }
@@ -181,9 +181,9 @@ TEST(PatchRasterizer, PatchCrossingTheCameraPlaneMatchesTheReference) {
         torus.close.translate = {0.3f, 0.2f, 7.0f};
         scene.objects.push_back(torus);
         CounterRegistry::instance().reset();
-        const RenderResult patch = renderWith(scene, VisibilityMethod::Patch);
+        const RenderResult patch = renderWith(scene, &methodNamed("patch"));
         const CounterValues counters = CounterRegistry::instance().snapshot();
-        const RenderResult reference = renderWith(scene, VisibilityMethod::Reference);
+        const RenderResult reference = renderWith(scene, &methodNamed("reference"));
         const Comparison c = compare(patch, reference);
         EXPECT_GT(counters[rasterCounters().fullScreenBounds], 0);
         EXPECT_GT(c.hits, 0u);
@@ -196,10 +196,10 @@ TEST(PatchRasterizer, ImagesAndCountersDoNotDependOnTheThreadCount) {
     const SceneDesc scene =
         smallScene(readSceneFile(test::sourcePath("scenes/motion_defocus.json")), 64, 48, 4);
     CounterRegistry::instance().reset();
-    const RenderResult one = renderWith(scene, VisibilityMethod::Patch, 1);
+    const RenderResult one = renderWith(scene, &methodNamed("patch"), 1);
     const CounterValues countersOne = CounterRegistry::instance().snapshot();
     CounterRegistry::instance().reset();
-    const RenderResult two = renderWith(scene, VisibilityMethod::Patch, 2);
+    const RenderResult two = renderWith(scene, &methodNamed("patch"), 2);
     const CounterValues countersTwo = CounterRegistry::instance().snapshot();
     EXPECT_EQ(one.frame.color.rgb, two.frame.color.rgb);
     EXPECT_EQ(countersOne.raw(), countersTwo.raw());
@@ -208,7 +208,7 @@ TEST(PatchRasterizer, ImagesAndCountersDoNotDependOnTheThreadCount) {
 TEST(PatchRasterizer, StaticSceneDoesNoTimeWork) {
     CounterRegistry::instance().reset();
     const SceneDesc scene = smallScene(readSceneFile(test::sourcePath("scenes/static.json")));
-    renderWith(scene, VisibilityMethod::Patch);
+    renderWith(scene, &methodNamed("patch"));
     const CounterValues c = CounterRegistry::instance().snapshot();
     const RasterCounters& rs = rasterCounters();
     EXPECT_EQ(c[rs.timeIntervals], 0);
@@ -223,7 +223,7 @@ TEST(PatchRasterizer, StaticSceneDoesNoTimeWork) {
 TEST(PatchRasterizer, MotionSceneNarrowsTimeAndRejectsSamplesByTime) {
     CounterRegistry::instance().reset();
     renderWith(smallScene(readSceneFile(test::sourcePath("scenes/motion.json"))),
-               VisibilityMethod::Patch);
+               &methodNamed("patch"));
     const CounterValues c = CounterRegistry::instance().snapshot();
     EXPECT_GT(c[rasterCounters().timeIntervals], 0);
     EXPECT_GT(c[rasterCounters().samplesRejectedTime], 0);
@@ -231,7 +231,7 @@ TEST(PatchRasterizer, MotionSceneNarrowsTimeAndRejectsSamplesByTime) {
 
 TEST(PatchRasterizer, WritesABlurredImage) {
     const SceneDesc scene = smallScene(defaultScene(), 80, 60, 8);
-    const RenderResult r = renderWith(scene, VisibilityMethod::Patch);
+    const RenderResult r = renderWith(scene, &methodNamed("patch"));
     ASSERT_EQ(r.frame.color.width, 80);
     double sum = 0;
     std::size_t partial = 0;  // pixels whose samples disagree: blur (or an edge)

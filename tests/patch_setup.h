@@ -2,8 +2,8 @@
 // A scene's front end and patch rasterizer, built the way the frame driver builds them, for tests
 // that drive the rasterizer's steps one tile or one group at a time.
 
-#include "pipeline/core/scene.h"
-#include "rasterizer/patch_rasterizer.h"
+#include "core/scene.h"
+#include "rasterizer/patent/patch_rasterizer.h"
 #include "tessellator/front_end.h"
 
 namespace patchsim::test {

@@ -1,10 +1,10 @@
-#include "rasterizer/projected_bounds.h"
+#include "rasterizer/patent/projected_bounds.h"
 
 #include <gtest/gtest.h>
 
-#include "rasterizer/tile_frustum.h"
-#include "rasterizer/tile_test_cases.h"
-#include "rasterizer/tile_test_truth.h"
+#include "rasterizer/patent/tile_frustum.h"
+#include "rasterizer/verifier/tile_test_cases.h"
+#include "rasterizer/verifier/tile_test_truth.h"
 
 namespace patchsim {
 namespace {

@@ -12,7 +12,7 @@
 namespace patchsim::test {
 
 inline std::vector<SweepRow> quickSweep(const SceneDesc& scene,
-                                        std::vector<VisibilityMethod> methods,
+                                        std::vector<const VisibilityMethod*> methods,
                                         std::vector<int> samplesPerPixel, const std::string& name,
                                         const RenderOptions& render = {}) {
     SweepOptions o;

@@ -1,4 +1,4 @@
-#include "rasterizer/ray_stream.h"
+#include "rasterizer/patent/ray_stream.h"
 
 #include <gtest/gtest.h>
 #include <hwy/targets.h>
@@ -7,14 +7,14 @@
 #include <limits>
 #include <vector>
 
-#include "pipeline/core/counters.h"
-#include "pipeline/core/scene_reader.h"
+#include "core/counters.h"
+#include "core/scene_reader.h"
 #include "pipeline/driver/render.h"
-#include "rasterizer/branch_node.h"
-#include "rasterizer/moving_box_ray.h"
-#include "rasterizer/tile_traversal.h"
-#include "rasterizer/watertight_triangle.h"
-#include "rasterizer/z_culling.h"
+#include "rasterizer/common/watertight_triangle.h"
+#include "rasterizer/common/z_culling.h"
+#include "rasterizer/patent/branch_node.h"
+#include "rasterizer/patent/moving_box_ray.h"
+#include "rasterizer/patent/tile_traversal.h"
 #include "tests/patch_setup.h"
 #include "tests/render_compare.h"
 #include "tests/test_paths.h"

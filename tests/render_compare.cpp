@@ -7,7 +7,7 @@
 #include <tuple>
 #include <vector>
 
-#include "pipeline/core/counters.h"
+#include "core/counters.h"
 
 namespace patchsim::test {
 
@@ -55,7 +55,7 @@ Comparison compare(const RenderResult& a, const RenderResult& b) {
 }
 
 Comparison expectStableAndExact(const SceneDesc& scene, const std::string& what) {
-    auto render = [&](VisibilityMethod method, int threads, CounterValues* counters) {
+    auto render = [&](const VisibilityMethod* method, int threads, CounterValues* counters) {
         RenderOptions options;
         options.method = method;
         options.threads = threads;
@@ -65,10 +65,10 @@ Comparison expectStableAndExact(const SceneDesc& scene, const std::string& what)
         return r;
     };
     CounterValues countersOne, countersTwo, countersAgain;
-    const RenderResult one = render(VisibilityMethod::Patch, 1, &countersOne);
-    const RenderResult two = render(VisibilityMethod::Patch, 2, &countersTwo);
-    const RenderResult again = render(VisibilityMethod::Patch, 2, &countersAgain);
-    const RenderResult reference = render(VisibilityMethod::Reference, 2, nullptr);
+    const RenderResult one = render(&methodNamed("patch"), 1, &countersOne);
+    const RenderResult two = render(&methodNamed("patch"), 2, &countersTwo);
+    const RenderResult again = render(&methodNamed("patch"), 2, &countersAgain);
+    const RenderResult reference = render(&methodNamed("reference"), 2, nullptr);
     expectFinite(one, what);
     expectFinite(reference, what);
     const Comparison c = compare(one, reference);

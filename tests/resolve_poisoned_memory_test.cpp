@@ -13,9 +13,9 @@
 #include <cstring>
 #include <new>
 
-#include "backend/image.h"
-#include "pipeline/core/frame_memory.h"
-#include "pipeline/core/scene_reader.h"
+#include "backend/images/image.h"
+#include "core/frame_memory.h"
+#include "core/scene_reader.h"
 #include "pipeline/driver/render.h"
 #include "tests/test_paths.h"
 

@@ -1,4 +1,4 @@
-#include "backend/resolve.h"
+#include "backend/shading/resolve.h"
 
 #include <gtest/gtest.h>
 
@@ -7,11 +7,11 @@
 #include <fstream>
 #include <glm/gtc/matrix_transform.hpp>
 
-#include "backend/image.h"
-#include "pipeline/core/counters.h"
-#include "pipeline/core/scene_reader.h"
+#include "backend/images/image.h"
+#include "core/counters.h"
+#include "core/scene_reader.h"
 #include "pipeline/driver/render.h"
-#include "rasterizer/raster_work.h"
+#include "rasterizer/patent/raster_work.h"
 #include "tests/test_paths.h"
 
 namespace patchsim {

@@ -1,4 +1,4 @@
-#include "pipeline/core/sample_kernel.h"
+#include "core/sample_kernel.h"
 
 #include <gtest/gtest.h>
 #include <hwy/highway.h>
@@ -9,7 +9,7 @@
 #include <cstdio>
 #include <vector>
 
-#include "pipeline/core/samples.h"
+#include "core/samples.h"
 
 namespace patchsim {
 namespace {

@@ -1,10 +1,10 @@
-#include "backend/sample_reprojection.h"
+#include "backend/image_space/sample_reprojection.h"
 
 #include <gtest/gtest.h>
 
-#include "backend/image_metrics.h"
-#include "pipeline/core/counters.h"
-#include "pipeline/core/scene_reader.h"
+#include "backend/images/image_metrics.h"
+#include "core/counters.h"
+#include "core/scene_reader.h"
 #include "pipeline/driver/render.h"
 #include "pipeline/driver/sweep.h"
 #include "tests/quick_sweep.h"
@@ -21,7 +21,7 @@ SceneDesc scene(const char* path, int spp) {
     return s;
 }
 
-std::vector<SweepRow> sweep(const SceneDesc& s, std::vector<VisibilityMethod> methods,
+std::vector<SweepRow> sweep(const SceneDesc& s, std::vector<const VisibilityMethod*> methods,
                             const RenderOptions& render = {}) {
     return test::quickSweep(s, std::move(methods), {4}, "reprojection", render);
 }
@@ -30,16 +30,15 @@ std::vector<SweepRow> sweep(const SceneDesc& s, std::vector<VisibilityMethod> me
 // smoother camera-motion blur than as many distributed time samples; and more interpolated
 // cameras give a smoother blur than fewer.
 TEST(Reprojection, ACameraPanBlursSmootherThanDistributedSamplesOfTheSameCount) {
-    const std::vector<SweepRow> rows =
-        sweep(scene("scenes/camera_pan.json", 4),
-              {VisibilityMethod::Patch, VisibilityMethod::Reprojection});
+    const std::vector<SweepRow> rows = sweep(scene("scenes/camera_pan.json", 4),
+                                             {&methodNamed("patch"), &methodNamed("reprojection")});
     ASSERT_EQ(rows.size(), 2u);
     EXPECT_GT(rows[1].psnr, rows[0].psnr + 3.0)
         << rows[0].psnr << " dB distributed, " << rows[1].psnr << " dB reprojected";
     RenderOptions few;
     few.reprojection.cameraSteps = 2;
     const std::vector<SweepRow> coarse =
-        sweep(scene("scenes/camera_pan.json", 4), {VisibilityMethod::Reprojection}, few);
+        sweep(scene("scenes/camera_pan.json", 4), {&methodNamed("reprojection")}, few);
     EXPECT_GT(rows[1].psnr, coarse[0].psnr + 1.0) << coarse[0].psnr << " dB with 2 cameras";
 }
 
@@ -47,7 +46,7 @@ TEST(Reprojection, ACameraPanBlursSmootherThanDistributedSamplesOfTheSameCount) 
 TEST(Reprojection, ObjectMotionIsNotBlurred) {
     const std::vector<SweepRow> rows =
         sweep(scene("scenes/hybrid.json", 4),
-              {VisibilityMethod::Postprocess, VisibilityMethod::Reprojection});
+              {&methodNamed("postprocess"), &methodNamed("reprojection")});
     ASSERT_EQ(rows.size(), 2u);
     EXPECT_LT(rows[1].psnr, rows[0].psnr - 1.0)
         << rows[0].psnr << " dB post-process, " << rows[1].psnr << " dB reprojection";
@@ -69,7 +68,7 @@ TEST(Reprojection, BothFramesCarryTheirTransparentLayers) {
         cube.open = cube.close = close ? cube.close : cube.open;
         held[close] = renderScene(still, o);
     }
-    o.method = VisibilityMethod::Reprojection;
+    o.method = &methodNamed("reprojection");
     const RenderResult r = renderScene(moving, o);
     Image expected(160, 120);
     double openError = 0, openContrast = 0;
@@ -99,7 +98,7 @@ TEST(Reprojection, BothFramesCarryTheirTransparentLayers) {
 TEST(Reprojection, EverySampleOfBothFramesGoesToEveryCamera) {
     CounterRegistry::instance().reset();
     RenderOptions o;
-    o.method = VisibilityMethod::Reprojection;
+    o.method = &methodNamed("reprojection");
     o.threads = 1;
     o.reprojection.cameraSteps = 8;
     const RenderResult r = renderScene(scene("scenes/camera_pan.json", 2), o);

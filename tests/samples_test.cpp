@@ -1,4 +1,4 @@
-#include "pipeline/core/samples.h"
+#include "core/samples.h"
 
 #include <gtest/gtest.h>
 

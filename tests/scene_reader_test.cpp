@@ -1,10 +1,10 @@
-#include "pipeline/core/scene_reader.h"
+#include "core/scene_reader.h"
 
 #include <gtest/gtest.h>
 
 #include <filesystem>
 
-#include "pipeline/core/error.h"
+#include "core/error.h"
 #include "tests/test_paths.h"
 
 namespace patchsim {

@@ -1,10 +1,10 @@
-#include "rasterizer/screen_bounds.h"
+#include "rasterizer/patent/screen_bounds.h"
 
 #include <gtest/gtest.h>
 
 #include <random>
 
-#include "pipeline/core/samples.h"
+#include "core/samples.h"
 
 namespace patchsim {
 namespace {

@@ -10,7 +10,7 @@
 #include <map>
 #include <random>
 
-#include "pipeline/core/error.h"
+#include "core/error.h"
 #include "tessellator/front_end.h"
 #include "tests/test_paths.h"
 

@@ -7,7 +7,7 @@
 #include <fstream>
 #include <sstream>
 
-#include "pipeline/core/scene_reader.h"
+#include "core/scene_reader.h"
 #include "pipeline/driver/converged_image.h"
 #include "tests/test_paths.h"
 
@@ -71,8 +71,7 @@ TEST(Sweep, BlurScaleScalesMotionAndAperture) {
 // as 1/sqrt(spp) (log-log slope -0.5 or steeper) while the converged image is far enough ahead.
 TEST(Sweep, ExactMethodsAgreeAndConvergeAtLeastAsFastAsOneOverRootSpp) {
     SweepOptions o;
-    o.methods = {VisibilityMethod::Patch, VisibilityMethod::TriangleBBox,
-                 VisibilityMethod::Interval};
+    o.methods = {&methodNamed("patch"), &methodNamed("triangle-bbox"), &methodNamed("interval")};
     o.samplesPerPixel = {1, 4, 16, 64};
     o.repeats = 1;
     o.convergedSamplesPerPixel = 2048;

@@ -1,14 +1,13 @@
-#include "backend/tfragment_method.h"
-
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <iostream>
 #include <map>
 
-#include "backend/image_metrics.h"
-#include "pipeline/core/counters.h"
-#include "pipeline/core/scene_reader.h"
+#include "backend/images/image_metrics.h"
+#include "backend/tfragment/tfragment_trace.h"
+#include "core/counters.h"
+#include "core/scene_reader.h"
 #include "pipeline/driver/render.h"
 #include "tessellator/front_end.h"
 #include "tests/test_paths.h"
@@ -36,7 +35,7 @@ struct Traced {
 Traced render(const SceneDesc& scene, int motionSamples, bool timeSampled) {
     CounterRegistry::instance().reset();
     RenderOptions o;
-    o.method = VisibilityMethod::TFragment;
+    o.method = &methodNamed("tfragment");
     o.threads = 1;
     o.tfragment.motionSamples = motionSamples;
     o.tfragmentTimeSampled = timeSampled;
@@ -97,7 +96,7 @@ TEST(TFragment, ImagesAndCountersDoNotDependOnTheThreadCount) {
     for (int threads : {1, 2}) {
         CounterRegistry::instance().reset();
         RenderOptions o;
-        o.method = VisibilityMethod::TFragment;
+        o.method = &methodNamed("tfragment");
         o.threads = threads;
         image[threads - 1] = renderScene(scene, o).frame.color.rgb;
         counts[threads - 1] = CounterRegistry::instance().snapshot().byName();
@@ -115,8 +114,8 @@ TEST(TFragment, SampleTestEfficiencyIsVisibilitySamplesOverSamplesTested) {
     for (bool timeSampled : {false, true}) {
         const Traced t = render(scene, 4, timeSampled);
         const CounterValues& c = t.counters;
-        const double ste = c.ratio(sampleTestEfficiencyOf(VisibilityMethod::TFragment));
-        const VisibilityTotals totals = visibilityTotals(c, VisibilityMethod::TFragment);
+        const double ste = c.ratio(methodNamed("tfragment").sampleTestEfficiency());
+        const VisibilityTotals totals = methodNamed("tfragment").totals(c);
         EXPECT_GT(ste, 0.0) << (timeSampled ? "time-sampled" : "decoupled");
         EXPECT_LT(ste, 1.0);
         EXPECT_EQ(totals.sampleTestEfficiency, ste);
@@ -146,7 +145,7 @@ TEST(TFragment, AStaticWallIsNeverHoledBehindMovingObjects) {
         RenderOptions o;
         o.threads = 2;
         const RenderResult exact = renderScene(scene, o);
-        o.method = VisibilityMethod::TFragment;
+        o.method = &methodNamed("tfragment");
         const RenderResult t = renderScene(scene, o);
         int wallPixels = 0, holes = 0;
         for (int y = 0; y < 120; ++y) {
@@ -184,7 +183,7 @@ TEST(TFragment, AnObjectLeavingTheViewIsLostOneEnteringIsKept) {
         RenderOptions o;
         o.threads = 1;
         const RenderResult exact = renderScene(scene, o);
-        o.method = VisibilityMethod::TFragment;
+        o.method = &methodNamed("tfragment");
         const RenderResult t = renderScene(scene, o);
         error[leaving] = psnr(t.frame.color, exact.frame.color);
     }

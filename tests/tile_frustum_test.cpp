@@ -1,8 +1,8 @@
-#include "rasterizer/tile_frustum.h"
+#include "rasterizer/patent/tile_frustum.h"
 
 #include <gtest/gtest.h>
 
-#include "rasterizer/tile_traversal.h"
+#include "rasterizer/patent/tile_traversal.h"
 
 namespace patchsim {
 namespace {

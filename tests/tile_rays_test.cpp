@@ -1,4 +1,4 @@
-#include "rasterizer/tile_rays.h"
+#include "rasterizer/patent/tile_rays.h"
 
 #include <gtest/gtest.h>
 #include <malloc.h>
@@ -8,9 +8,9 @@
 #include <random>
 #include <vector>
 
-#include "rasterizer/moving_box_ray.h"
-#include "rasterizer/watertight_triangle.h"
-#include "rasterizer/z_culling.h"
+#include "rasterizer/common/watertight_triangle.h"
+#include "rasterizer/common/z_culling.h"
+#include "rasterizer/patent/moving_box_ray.h"
 
 namespace patchsim {
 namespace {

@@ -1,8 +1,8 @@
-#include "rasterizer/tile_test_truth.h"
+#include "rasterizer/verifier/tile_test_truth.h"
 
 #include <gtest/gtest.h>
 
-#include "rasterizer/tile_test_cases.h"
+#include "rasterizer/verifier/tile_test_cases.h"
 
 namespace patchsim {
 namespace {

@@ -1,11 +1,11 @@
-#include "rasterizer/tile_test_verifier.h"
+#include "rasterizer/verifier/tile_test_verifier.h"
 
 #include <gtest/gtest.h>
 
 #include <set>
 #include <sstream>
 
-#include "rasterizer/tile_test_cases.h"
+#include "rasterizer/verifier/tile_test_cases.h"
 
 namespace patchsim {
 namespace {

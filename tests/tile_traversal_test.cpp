@@ -1,13 +1,13 @@
-#include "rasterizer/tile_traversal.h"
+#include "rasterizer/patent/tile_traversal.h"
 
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <random>
 
-#include "pipeline/core/scene_reader.h"
-#include "rasterizer/patch_rasterizer.h"
-#include "rasterizer/tile_frustum.h"
+#include "core/scene_reader.h"
+#include "rasterizer/patent/patch_rasterizer.h"
+#include "rasterizer/patent/tile_frustum.h"
 #include "tessellator/front_end.h"
 #include "tests/test_paths.h"
 

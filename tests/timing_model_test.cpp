@@ -1,11 +1,11 @@
-#include "pipeline/driver/timing_model.h"
+#include "pipeline/timing/timing_model.h"
 
 #include <gtest/gtest.h>
 
 #include <nlohmann/json.hpp>
 #include <sstream>
 
-#include "pipeline/core/scene_reader.h"
+#include "core/scene_reader.h"
 #include "pipeline/driver/render.h"
 #include "tests/test_paths.h"
 
@@ -128,7 +128,7 @@ TEST(TimingModel, TheReferenceMethodsWorkIsCharged) {
     const HardwareConfig hw = defaultHardwareConfig();
     const TimingReport patch = simulateTiming(renderScene(scene, {}).patchOps, hw);
     RenderOptions reference;
-    reference.method = VisibilityMethod::Reference;
+    reference.method = &methodNamed("reference");
     const TimingReport brute = simulateTiming(renderScene(scene, reference).patchOps, hw);
     EXPECT_GT(brute.stages[std::size_t(Stage::RS)].busy,
               10 * patch.stages[std::size_t(Stage::RS)].busy);

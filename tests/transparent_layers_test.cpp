@@ -1,4 +1,4 @@
-#include "rasterizer/transparent_layers.h"
+#include "rasterizer/common/transparent_layers.h"
 
 #include <gtest/gtest.h>
 
@@ -27,8 +27,7 @@ TEST(TransparentLayers, KeepsTheNearestWhateverTheOrderAndCountsOverflow) {
         std::shuffle(all.begin(), all.end(), rng);
         TransparentLayers layers(4, 3);
         int dropped = 0;
-        for (const LayerFragment& f : all)
-            dropped += !layers.offer(2, trial % TransparentLayers::kPools, f);
+        for (const LayerFragment& f : all) dropped += !layers.offer(2, trial % layers.pools(), f);
         EXPECT_EQ(dropped, 7);
         EXPECT_EQ(depths(layers, 2), (std::vector<float>{1, 2, 3}));
         EXPECT_EQ(layers.count(0), 0);

@@ -1,4 +1,4 @@
-#include "rasterizer/watertight_triangle.h"
+#include "rasterizer/common/watertight_triangle.h"
 
 #include <gtest/gtest.h>
 

@@ -1,4 +1,4 @@
-#include "rasterizer/z_culling.h"
+#include "rasterizer/common/z_culling.h"
 
 #include <gtest/gtest.h>
 

@@ -8,13 +8,12 @@
 #include <map>
 #include <nlohmann/json.hpp>
 
-#include "backend/heat_map.h"
-#include "backend/image.h"
-#include "pipeline/core/error.h"
-#include "pipeline/core/hardware_config.h"
-#include "pipeline/core/output_set.h"
-#include "pipeline/core/rasterizer_options.h"
-#include "pipeline/core/text_file.h"
+#include "backend/images/heat_map.h"
+#include "backend/images/image.h"
+#include "core/error.h"
+#include "core/output_set.h"
+#include "core/rasterizer_options.h"
+#include "core/text_file.h"
 #include "pipeline/driver/explore.h"
 #include "pipeline/driver/plots.h"
 #include "pipeline/driver/render.h"
@@ -22,7 +21,9 @@
 #include "pipeline/driver/stats_report.h"
 #include "pipeline/driver/sweep.h"
 #include "pipeline/driver/tessellation_export.h"
-#include "rasterizer/tile_test_verifier.h"
+#include "pipeline/methods/visibility_method.h"
+#include "pipeline/timing/hardware_config.h"
+#include "rasterizer/verifier/tile_test_verifier.h"
 
 namespace patchsim {
 
@@ -70,7 +71,7 @@ HardwareConfig hardwareOf(const JobSettings& s) {
 // Everything of a render that the options choose, other than the method (sweep sets its own).
 RenderOptions renderOptionsOf(const JobSettings& s) {
     RenderOptions o;
-    parseVisibilityMethod(s.method, o.method);  // checked against the method table
+    o.method = &methodNamed(s.method);  // checked against the method table
     o.overrides = overridesOf(s);
     o.threads = s.threads;
     o.memoryBudgetBytes = s.limits().memoryBudgetBytes;
@@ -136,7 +137,7 @@ std::vector<std::pair<std::string, std::string>> renderFacts(
     const SceneDesc& scene, const RenderOptions& options, const RenderResult& result,
     const CounterValues& counters, double ste, const std::string& hardware) {
     const RasterizerOptions& o = scene.rasterizer;
-    return {{"method", visibilityMethodName(options.method)},
+    return {{"method", options.visibilityMethod().name()},
             {"mode", describeMode(result.effects)},
             {"width", std::to_string(scene.film.width)},
             {"height", std::to_string(scene.film.height)},
@@ -183,11 +184,10 @@ bool reserveRenderOutputs(const JobSettings& s, const MpiContext& mpi, OutputSet
 void printRenderSummary(const JobSettings& s, const SceneDesc& scene, const RenderOptions& options,
                         const RenderResult& result, double ste, std::size_t heatMaps) {
     std::cout << "rendered " << scene.path << " (" << describeMode(result.effects) << ") with the "
-              << visibilityMethodName(options.method) << " method: " << result.patches
-              << " patches, " << result.triangles << " triangles; front end "
-              << result.frontEndSeconds << " s, visibility " << result.visibilitySeconds
-              << " s, shading " << result.shadingSeconds << " s; STE " << ste << "\nwrote "
-              << s.output
+              << options.visibilityMethod().name() << " method: " << result.patches << " patches, "
+              << result.triangles << " triangles; front end " << result.frontEndSeconds
+              << " s, visibility " << result.visibilitySeconds << " s, shading "
+              << result.shadingSeconds << " s; STE " << ste << "\nwrote " << s.output
               << "/image.exr (R G B Z coverage motion.x motion.y), image.png, stats.json";
     if (heatMaps > 0) std::cout << " and " << heatMaps << " heat maps";
     std::cout << "\n";
@@ -250,7 +250,7 @@ int runRender(const JobSettings& s, const MpiContext& mpi) {
     writePng(result.frame.color, outputs.file(joinOutputPath(s.output, "image.png"), "-o"));
     std::vector<std::string> heatMaps;
     if (result.pixels) heatMaps = writeHeatMaps(*result.pixels, s.output, outputs);
-    const double ste = counters.ratio(sampleTestEfficiencyOf(options.method));
+    const double ste = counters.ratio(options.visibilityMethod().sampleTestEfficiency());
     StatsContext context{"render", scene.path, {}, {}, &timing};
     context.facts = renderFacts(scene, options, result, counters, ste, s.hardware);
     context.options = recordedOptions(Command::Render, s, &scene.rasterizer);
@@ -326,9 +326,7 @@ int runExplore(const JobSettings& s, const MpiContext& mpi) {
 int runSweepCommand(const JobSettings& s) {
     SweepOptions o;
     for (const std::string& name : s.methods) {
-        VisibilityMethod m;
-        parseVisibilityMethod(name, m);  // checked against the method table
-        o.methods.push_back(m);
+        o.methods.push_back(&methodNamed(name));  // checked against the method table
     }
     o.samplesPerPixel = s.sppList;
     o.repeats = s.repeats;

@@ -6,9 +6,9 @@
 #include <set>
 #include <sstream>
 
-#include "pipeline/core/error.h"
-#include "pipeline/core/rasterizer_options.h"
-#include "pipeline/core/visibility_method.h"
+#include "core/error.h"
+#include "core/rasterizer_options.h"
+#include "pipeline/methods/visibility_method.h"
 
 namespace patchsim {
 
@@ -22,7 +22,7 @@ constexpr unsigned kScenes = kInfo | kTess | kRender | kSweep | kExplore;
 
 std::vector<std::string> methodNames() {
     std::vector<std::string> names;
-    for (const VisibilityMethodInfo& m : visibilityMethods()) names.push_back(m.name);
+    for (const VisibilityMethod* m : visibilityMethods()) names.push_back(m->name());
     return names;
 }
 

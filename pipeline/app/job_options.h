@@ -12,7 +12,7 @@
 // refused the same way wherever it comes from: NaN and infinities never pass a range, an empty
 // path is never taken for ".", a list never has an empty or repeated item. stats.json writes the
 // rows' values back through `jobOptionValue`. The patch rasterizer's own options keep their table
-// (pipeline/core/rasterizer_options.h); `render` takes them as flags too.
+// (core/rasterizer_options.h); `render` takes them as flags too.
 
 #include <cstdint>
 #include <map>
@@ -21,11 +21,11 @@
 #include <variant>
 #include <vector>
 
-#include "backend/hybrid_motion_blur.h"
-#include "backend/motion_blur_postprocess.h"
-#include "backend/sample_reprojection.h"
-#include "backend/tfragment_generation.h"
-#include "pipeline/core/scene_reader.h"
+#include "backend/image_space/hybrid_motion_blur.h"
+#include "backend/image_space/motion_blur_postprocess.h"
+#include "backend/image_space/sample_reprojection.h"
+#include "backend/tfragment/tfragment_generation.h"
+#include "core/scene_reader.h"
 
 namespace patchsim {
 

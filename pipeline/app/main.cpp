@@ -5,10 +5,10 @@
 #include <CLI/CLI.hpp>
 #include <iostream>
 
+#include "core/error.h"
+#include "core/output_set.h"
+#include "core/rasterizer_options.h"
 #include "pipeline/app/commands.h"
-#include "pipeline/core/error.h"
-#include "pipeline/core/output_set.h"
-#include "pipeline/core/rasterizer_options.h"
 
 namespace {
 

@@ -21,7 +21,7 @@ bool startedByMpirun() {
 MpiContext::MpiContext(int& argc, char**& argv) {
 #ifdef PATCHSIM_HAVE_MPI
     if (!startedByMpirun()) return;
-    // Progress is published from worker threads, one at a time (pipeline/core/progress.h).
+    // Progress is published from worker threads, one at a time (core/progress.h).
     int provided = 0;
     MPI_Init_thread(&argc, &argv, MPI_THREAD_SERIALIZED, &provided);
     MPI_Comm_rank(MPI_COMM_WORLD, &rank_);

@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "pipeline/core/progress.h"
+#include "core/progress.h"
 
 namespace patchsim {
 

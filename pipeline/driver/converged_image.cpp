@@ -7,9 +7,10 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "pipeline/core/output_set.h"
-#include "pipeline/core/samples.h"
-#include "pipeline/core/text_file.h"
+#include "core/output_set.h"
+#include "core/samples.h"
+#include "core/text_file.h"
+#include "pipeline/methods/visibility_method.h"
 
 namespace patchsim {
 
@@ -110,7 +111,7 @@ ConvergedImage renderConverged(const SceneDesc& scene, int spp, const RenderOpti
     ConvergedImage result;
     const int passes = (spp + kConvergedSamplesPerPass - 1) / kConvergedSamplesPerPass;
     RenderOptions passOptions = options;
-    passOptions.method = VisibilityMethod::Patch;
+    passOptions.method = &methodNamed("patch");
     passOptions.heatMaps = false;
     for (int p = 0; p < passes; ++p) {
         SceneDesc pass = scene;

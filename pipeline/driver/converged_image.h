@@ -17,7 +17,7 @@
 
 #include <string>
 
-#include "backend/image.h"
+#include "backend/images/image.h"
 #include "pipeline/driver/render.h"
 
 namespace patchsim {

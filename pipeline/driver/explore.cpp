@@ -5,12 +5,12 @@
 #include <cstdlib>
 #include <sstream>
 
-#include "pipeline/core/counters.h"
-#include "pipeline/core/json_fields.h"
-#include "pipeline/core/rasterizer_options.h"
+#include "core/counters.h"
+#include "core/json_fields.h"
+#include "core/rasterizer_options.h"
 #include "pipeline/driver/render.h"
-#include "pipeline/driver/timing_model.h"
-#include "rasterizer/raster_work.h"
+#include "pipeline/timing/timing_model.h"
+#include "rasterizer/patent/raster_work.h"
 
 namespace patchsim {
 
@@ -233,9 +233,9 @@ void runExploreJobs(const std::vector<SceneDesc>& scenes, const ExploreGrid& gri
     const std::vector<ExploreJob> jobs = exploreJobs(scenes.size(), grid);
     // Every job's tiles and memory before the first render.
     for (const ExploreJob& job : jobs) {
-        const SceneDesc scene = jobScene(scenes, grid, job, limits);
-        scene.rasterizer.validateTileSamples(scene.film.samplesPerPixel, grid.path);
-        checkFrameMemory(scene, jobRenderOptions(threads, limits), grid.path);
+        SceneDesc scene = jobScene(scenes, grid, job, limits);
+        scene.path = grid.path;  // the grid chose the refused combination
+        checkRender(scene, jobRenderOptions(threads, limits));
     }
     for (std::size_t j = 0; j < jobs.size(); ++j)
         if (mine(j)) emit(j, runExploreJob(scenes, grid, baseHardware, j, threads, limits));

@@ -14,9 +14,9 @@
 #include <string>
 #include <vector>
 
-#include "pipeline/core/hardware_config.h"
-#include "pipeline/core/scene.h"
-#include "pipeline/core/scene_reader.h"
+#include "core/scene.h"
+#include "core/scene_reader.h"
+#include "pipeline/timing/hardware_config.h"
 
 namespace patchsim {
 

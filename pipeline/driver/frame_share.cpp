@@ -91,9 +91,8 @@ std::string packFrameRows(const FrameRows& rows, const std::function<bool(int)>&
             }
         out.put(-1);
     }
-    out.putArray(rows.tileWork->data(), rows.tileWork->size());
-    out.put(rows.boundingWork->size());
-    out.putArray(rows.boundingWork->data(), rows.boundingWork->size());
+    out.put(rows.ops->size());
+    out.putArray(rows.ops->data(), rows.ops->size());
     out.put(rows.counters->raw().size());
     out.putArray(rows.counters->raw().data(), rows.counters->raw().size());
     return out.take();
@@ -113,7 +112,7 @@ void unpackFrameRows(const std::string& bytes, const FrameRows& rows) {
                 in.getArray(fragments.data(), fragments.size());
                 // The sorted blend does not depend on slot order; any pool will do.
                 for (const LayerFragment& f : fragments)
-                    rows.transparent->offer(s, y % TransparentLayers::kPools, f);
+                    rows.transparent->offer(s, y % rows.transparent->pools(), f);
             }
         }
         if (rows.pixels) {
@@ -128,13 +127,9 @@ void unpackFrameRows(const std::string& bytes, const FrameRows& rows) {
             in.getArray(rows.pixels->mutableTileTests().data() + g.index(0, ty),
                         std::size_t(g.tilesX()));
     }
-    std::vector<RasterWork> work(rows.tileWork->size());
-    in.getArray(work.data(), work.size());
-    for (std::size_t i = 0; i < work.size(); ++i) (*rows.tileWork)[i].add(work[i]);
-    std::vector<BoundingWork> bounding(in.get<std::size_t>());
-    in.getArray(bounding.data(), bounding.size());
-    for (std::size_t i = 0; i < bounding.size() && i < rows.boundingWork->size(); ++i)
-        (*rows.boundingWork)[i].add(bounding[i]);
+    std::vector<PatchOps> ops(in.get<std::size_t>());
+    in.getArray(ops.data(), ops.size());
+    for (std::size_t i = 0; i < ops.size() && i < rows.ops->size(); ++i) (*rows.ops)[i].add(ops[i]);
     std::vector<std::int64_t> counts(in.get<std::size_t>());
     in.getArray(counts.data(), counts.size());
     *rows.counters = CounterValues::fromRaw(std::move(counts));

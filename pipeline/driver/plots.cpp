@@ -3,8 +3,8 @@
 #include <cstdlib>
 #include <vector>
 
-#include "pipeline/core/output_set.h"
-#include "pipeline/core/text_file.h"
+#include "core/output_set.h"
+#include "core/text_file.h"
 
 namespace patchsim {
 

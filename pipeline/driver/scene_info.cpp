@@ -2,7 +2,7 @@
 
 #include <atomic>
 
-#include "pipeline/core/parallel.h"
+#include "core/parallel.h"
 
 namespace patchsim {
 

@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-#include "pipeline/core/effects.h"
+#include "core/effects.h"
 #include "tessellator/front_end.h"
 
 namespace patchsim {

@@ -5,7 +5,7 @@
 #include <map>
 #include <nlohmann/json.hpp>
 
-#include "rasterizer/raster_work.h"
+#include "rasterizer/patent/raster_work.h"
 
 namespace patchsim {
 

@@ -5,8 +5,8 @@
 #include <string>
 #include <vector>
 
-#include "pipeline/core/counters.h"
-#include "pipeline/driver/timing_model.h"
+#include "core/counters.h"
+#include "pipeline/timing/timing_model.h"
 
 namespace patchsim {
 

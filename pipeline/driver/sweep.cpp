@@ -7,14 +7,14 @@
 #include <ostream>
 #include <set>
 
-#include "backend/image_metrics.h"
-#include "pipeline/core/counters.h"
-#include "pipeline/core/error.h"
-#include "pipeline/core/output_set.h"
-#include "pipeline/core/progress.h"
+#include "backend/images/image_metrics.h"
+#include "core/counters.h"
+#include "core/error.h"
+#include "core/output_set.h"
+#include "core/progress.h"
 #include "pipeline/driver/converged_image.h"
 #include "pipeline/driver/plots.h"
-#include "pipeline/driver/timing_model.h"
+#include "pipeline/timing/timing_model.h"
 
 namespace patchsim {
 
@@ -33,17 +33,17 @@ double median(std::vector<double> v) {
     return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
 }
 
-SweepRow measureRun(const SweepScene& s, VisibilityMethod method, int spp,
+SweepRow measureRun(const SweepScene& s, const VisibilityMethod& method, int spp,
                     const ConvergedImage& converged, const SweepOptions& o, Image& picture) {
     SceneDesc scene = s.scene;
     scene.film.samplesPerPixel = spp;
     RenderOptions options = o.render;
-    options.method = method;
+    options.method = &method;
     options.progress = false;
     std::vector<double> seconds;
     SweepRow row;
     row.scene = s.label;
-    row.method = visibilityMethodName(method);
+    row.method = method.name();
     row.spp = spp;
     for (int r = 0; r < std::max(1, o.repeats); ++r) {
         CounterRegistry::instance().reset();
@@ -52,7 +52,7 @@ SweepRow measureRun(const SweepScene& s, VisibilityMethod method, int spp,
         if (r > 0) continue;
         const CounterValues counters = CounterRegistry::instance().snapshot();
         row.modelledCycles = simulateTiming(result.patchOps, o.hardware).totalCycles;
-        row.visibility = visibilityTotals(counters, method);
+        row.visibility = method.totals(counters);
         row.shadingInvocations = counters[shadingCounters().invocations];
         row.rmse = rmse(result.frame.color, converged.color);
         row.psnr = psnr(result.frame.color, converged.color);
@@ -150,9 +150,9 @@ void checkEveryRun(const std::vector<SweepScene>& scenes, const SweepOptions& o,
             checkMemoryBudget(scene.film, o.limits, s.label, "--spp");
             scene.rasterizer.validateTileSamples(spp, s.label);
             RenderOptions options = o.render;
-            for (VisibilityMethod method : o.methods) {
+            for (const VisibilityMethod* method : o.methods) {
                 options.method = method;
-                checkFrameMemory(scene, options, s.label);
+                checkRender(scene, options);
             }
         }
     }
@@ -213,13 +213,12 @@ std::vector<SweepRow> runSweep(const std::vector<SweepScene>& scenes, const Swee
             " spp, patch method) " + (converged.fromCache ? "reused from " : "rendered into ") +
             converged.path + (converged.note.empty() ? "" : " (" + converged.note + ")"));
         writeImage(converged.color, s.label + "-converged.png");
-        for (VisibilityMethod method : o.methods) {
+        for (const VisibilityMethod* method : o.methods) {
             for (int spp : o.samplesPerPixel) {
-                const std::string run =
-                    s.label + "-" + visibilityMethodName(method) + "-" + std::to_string(spp);
+                const std::string run = s.label + "-" + method->name() + "-" + std::to_string(spp);
                 progress.describe(run);
                 Image picture;
-                rows.push_back(measureRun(s, method, spp, converged, o, picture));
+                rows.push_back(measureRun(s, *method, spp, converged, o, picture));
                 writeImage(picture, run + ".png");
                 progress.advance();
             }

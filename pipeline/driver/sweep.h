@@ -11,11 +11,11 @@
 #include <string>
 #include <vector>
 
-#include "pipeline/core/hardware_config.h"
-#include "pipeline/core/scene.h"
-#include "pipeline/core/scene_reader.h"
-#include "pipeline/core/visibility_method.h"
+#include "core/scene.h"
+#include "core/scene_reader.h"
 #include "pipeline/driver/render.h"
+#include "pipeline/methods/visibility_method.h"
+#include "pipeline/timing/hardware_config.h"
 
 namespace patchsim {
 
@@ -35,7 +35,7 @@ std::string sweepSceneLabel(const std::string& path, float blur,
                             const std::vector<std::string>& paths);
 
 struct SweepOptions {
-    std::vector<VisibilityMethod> methods;
+    std::vector<const VisibilityMethod*> methods;
     std::vector<int> samplesPerPixel;
     int repeats = 3;
     int convergedSamplesPerPixel = 0;  // 0: 16 x the largest of `samplesPerPixel`

@@ -5,7 +5,7 @@
 #include <cstdio>
 #include <map>
 
-#include "pipeline/core/parallel.h"
+#include "core/parallel.h"
 
 namespace patchsim {
 

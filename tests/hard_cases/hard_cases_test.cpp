@@ -11,13 +11,13 @@
 #include <limits>
 #include <random>
 
-#include "pipeline/core/counters.h"
-#include "pipeline/core/samples.h"
-#include "rasterizer/moving_box_ray.h"
-#include "rasterizer/patch_rasterizer.h"
-#include "rasterizer/sample_rays.h"
-#include "rasterizer/visibility_targets.h"
-#include "rasterizer/watertight_triangle.h"
+#include "core/counters.h"
+#include "core/samples.h"
+#include "rasterizer/common/sample_rays.h"
+#include "rasterizer/common/visibility_targets.h"
+#include "rasterizer/common/watertight_triangle.h"
+#include "rasterizer/patent/moving_box_ray.h"
+#include "rasterizer/patent/patch_rasterizer.h"
 #include "tessellator/front_end.h"
 #include "tests/render_compare.h"
 #include "tests/test_paths.h"

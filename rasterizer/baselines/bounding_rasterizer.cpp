@@ -1,0 +1,263 @@
+#include "rasterizer/baselines/bounding_rasterizer.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "core/counters.h"
+#include "core/parallel.h"
+#include "rasterizer/common/conservative_margins.h"
+#include "rasterizer/common/watertight_triangle.h"
+#include "rasterizer/common/z_culling.h"
+
+namespace patchsim {
+
+namespace {
+
+// Three sets of counters from the one list, named by each method's prefix.
+#define PATCHSIM_BOUNDING_COUNTER(prefix, field, name, unit, kind, definition, ...) \
+    const Counter prefix##_##field{#prefix "/" name, unit, definition, CounterKind::kind};
+#define PATCHSIM_BB(...) PATCHSIM_BOUNDING_COUNTER(BB, __VA_ARGS__)
+#define PATCHSIM_IV(...) PATCHSIM_BOUNDING_COUNTER(IV, __VA_ARGS__)
+#define PATCHSIM_IL(...) PATCHSIM_BOUNDING_COUNTER(IL, __VA_ARGS__)
+PATCHSIM_BOUNDING_WORK(PATCHSIM_BB)
+PATCHSIM_BOUNDING_WORK(PATCHSIM_IV)
+PATCHSIM_BOUNDING_WORK(PATCHSIM_IL)
+#define PATCHSIM_BB_REF(field, ...) BB_##field,
+#define PATCHSIM_IV_REF(field, ...) IV_##field,
+#define PATCHSIM_IL_REF(field, ...) IL_##field,
+const BoundingCounters kTriangleBBox{PATCHSIM_BOUNDING_WORK(PATCHSIM_BB_REF)};
+const BoundingCounters kInterval{PATCHSIM_BOUNDING_WORK(PATCHSIM_IV_REF)};
+const BoundingCounters kInterleaved{PATCHSIM_BOUNDING_WORK(PATCHSIM_IL_REF)};
+
+}  // namespace
+
+const BoundingCounters& boundingCounters(Bounding m) {
+    return m == Bounding::TriangleBBox ? kTriangleBBox
+           : m == Bounding::Interval   ? kInterval
+                                       : kInterleaved;
+}
+
+namespace {
+
+// Pixels [x0, x1) x [y0, y1).
+struct PixelRect {
+    int x0 = 0, y0 = 0, x1 = 0, y1 = 0;
+};
+
+// Screen-plane (z = -1) bounds, grown point by point.
+struct ScreenBox {
+    float lo[2] = {1e30f, 1e30f}, hi[2] = {-1e30f, -1e30f};
+    bool fullScreen = false;
+
+    // A point seen through the whole lens: its image spread by its circle of confusion.
+    void addAcrossLens(const Vec3& p, const Camera& camera, const LensModel& lens) {
+        const float depth = -p.z;
+        if (!(depth >= camera.nearPlane()) || !std::isfinite(depth)) {
+            fullScreen = true;
+            return;
+        }
+        const float blur = lens.radius * std::abs(1.0f / depth - 1.0f / lens.focusDistance);
+        add(p.x / depth, p.y / depth, blur);
+    }
+    // A point seen from one lens point (radius-scaled disk position `l`).
+    void addFromLensPoint(const Vec3& p, Vec2 l, const Camera& camera, const LensModel& lens) {
+        const float depth = -p.z;
+        if (!(depth >= camera.nearPlane()) || !std::isfinite(depth)) {
+            fullScreen = true;
+            return;
+        }
+        const float focus = lens.radius > 0 ? 1.0f / lens.focusDistance : 0.0f;
+        add((p.x - l.x) / depth + l.x * focus, (p.y - l.y) / depth + l.y * focus, 0.0f);
+    }
+    void add(float sx, float sy, float r) {
+        lo[0] = std::min(lo[0], sx - r);
+        hi[0] = std::max(hi[0], sx + r);
+        lo[1] = std::min(lo[1], sy - r);
+        hi[1] = std::max(hi[1], sy + r);
+    }
+
+    // The pixels whose samples may fall inside (one pixel of slack: samples reach the far edge).
+    PixelRect pixels(const Camera& camera) const {
+        const int w = camera.width(), h = camera.height();
+        if (fullScreen) return {0, 0, w, h};
+        const float tanX = camera.tanHalfFovY() * camera.aspect(), tanY = camera.tanHalfFovY();
+        const float x0 = (lo[0] / tanX + 1.0f) * 0.5f * float(w) - kScreenBoundsMarginPixels;
+        const float x1 = (hi[0] / tanX + 1.0f) * 0.5f * float(w) + kScreenBoundsMarginPixels;
+        const float y0 = (1.0f - hi[1] / tanY) * 0.5f * float(h) - kScreenBoundsMarginPixels;
+        const float y1 = (1.0f - lo[1] / tanY) * 0.5f * float(h) + kScreenBoundsMarginPixels;
+        if (!(x0 <= x1) || !(y0 <= y1) || x1 < 0 || y1 < 0 || x0 > float(w) || y0 > float(h))
+            return {};
+        return {std::clamp(int(std::floor(x0)), 0, w), std::clamp(int(std::floor(y0)), 0, h),
+                std::clamp(int(std::floor(x1)) + 1, 0, w),
+                std::clamp(int(std::floor(y1)) + 1, 0, h)};
+    }
+};
+
+class BandRasterizer {
+  public:
+    BandRasterizer(const RayCaster& caster, const VisibilityTargets& targets,
+                   const BoundingOptions& options, const std::vector<float>& times, int y0, int y1)
+        : c_(caster), t_(targets), o_(options), times_(times), y0_(y0), y1_(y1) {}
+
+    void triangle(const MovingMesh& mesh, std::uint32_t tri, BoundingWork& work) const {
+        const std::uint32_t* v = &mesh.indices[3 * std::size_t(tri)];
+        const int spp = t_.opaque->samplesPerPixel();
+        switch (o_.method) {
+            case Bounding::TriangleBBox:
+                testRect(mesh, tri, spanBounds(mesh, v, 0.0f, 1.0f, work), 0, spp, -1, work);
+                break;
+            case Bounding::Interval:
+                for (int k = 0; k < o_.timeStrata; ++k) {
+                    const float ta = std::max(0.0f, float(k) / float(o_.timeStrata) - kTimeGuard);
+                    const float tb =
+                        std::min(1.0f, float(k + 1) / float(o_.timeStrata) + kTimeGuard);
+                    testRect(mesh, tri, spanBounds(mesh, v, ta, tb, work), 0, spp, k, work);
+                }
+                break;
+            case Bounding::Interleaved:
+                for (int s = 0; s < spp; ++s) {
+                    const Sample pass = c_.samples.sample(0, 0, s);  // the same in every pixel
+                    ScreenBox box;
+                    const Vec2 l = c_.lens.radius * concentricDisk(pass.lens);
+                    for (int k = 0; k < 3; ++k)
+                        box.addFromLensPoint(mesh.vertexAt(v[k], pass.time), l, c_.camera, c_.lens);
+                    ++work.triangleSetups;
+                    work.fullScreenBounds += box.fullScreen;
+                    testRect(mesh, tri, box.pixels(c_.camera), s, s + 1, -1, work);
+                }
+                break;
+        }
+    }
+
+  private:
+    PixelRect spanBounds(const MovingMesh& mesh, const std::uint32_t* v, float ta, float tb,
+                         BoundingWork& work) const {
+        ScreenBox box;
+        for (int k = 0; k < 3; ++k) {
+            box.addAcrossLens(mesh.vertexAt(v[k], ta), c_.camera, c_.lens);
+            box.addAcrossLens(mesh.vertexAt(v[k], tb), c_.camera, c_.lens);
+        }
+        ++work.triangleSetups;
+        work.fullScreenBounds += box.fullScreen;
+        return box.pixels(c_.camera);
+    }
+
+    // Samples [s0, s1) of every pixel of `rect` in this band (of time stratum `stratum` if >= 0).
+    void testRect(const MovingMesh& mesh, std::uint32_t tri, const PixelRect& rect, int s0, int s1,
+                  int stratum, BoundingWork& work) const {
+        VisibilityBuffer& buffer = *t_.opaque;
+        const bool everyHit = !mesh.opaque && t_.transparent != nullptr;
+        const std::uint32_t* v = &mesh.indices[3 * std::size_t(tri)];
+        for (int y = std::max(rect.y0, y0_); y < std::min(rect.y1, y1_); ++y) {
+            for (int x = rect.x0; x < rect.x1; ++x) {
+                for (int s = s0; s < s1; ++s) {
+                    const std::size_t index = buffer.index(x, y, s);
+                    if (stratum >= 0 && stratumOf(times_[index]) != stratum) continue;
+                    ++work.samplesTested;
+                    Ray ray = sampleRay(c_, x, y, s);
+                    ray.lambdaMax = rayEndAtDepth(buffer.depthBound(x, y, s), ray.depthPerLambda);
+                    TriangleHit hit;
+                    if (!intersectTriangle(shearRay(ray), mesh.vertexAt(v[0], ray.time),
+                                           mesh.vertexAt(v[1], ray.time),
+                                           mesh.vertexAt(v[2], ray.time), ray.lambdaMin,
+                                           ray.lambdaMax, hit))
+                        continue;
+                    const Sample smp = c_.samples.sample(x, y, s);
+                    VisibilityRecord record{hit.lambda * ray.depthPerLambda,
+                                            mesh.patchId,
+                                            tri,
+                                            hit.b1,
+                                            hit.b2,
+                                            smp.time,
+                                            smp.lens};
+                    if (everyHit) {
+                        ++work.transparentFragments;
+                        if (!t_.transparent->offer(index, t_.pool, {record, mesh.objectId}))
+                            ++work.transparentOverflow;
+                    } else if (record.nearerThan(buffer.at(x, y, s))) {
+                        ++work.visibilitySamples;
+                        buffer.at(x, y, s) = record;
+                    }
+                }
+            }
+        }
+    }
+
+    int stratumOf(float t) const {
+        return std::min(int(t * float(o_.timeStrata)), o_.timeStrata - 1);
+    }
+
+    const RayCaster& c_;
+    const VisibilityTargets& t_;
+    const BoundingOptions& o_;
+    const std::vector<float>& times_;
+    int y0_, y1_;
+};
+
+}  // namespace
+
+const RatioCounter& boundingSampleTestEfficiency(Bounding method) {
+    static const RatioCounter ratios[3] = {
+        {"BB/Sample test efficiency", "Visibility samples per sample tested",
+         kTriangleBBox.visibilitySamples, kTriangleBBox.samplesTested},
+        {"IV/Sample test efficiency", "Visibility samples per sample tested",
+         kInterval.visibilitySamples, kInterval.samplesTested},
+        {"IL/Sample test efficiency", "Visibility samples per sample tested",
+         kInterleaved.visibilitySamples, kInterleaved.samplesTested}};
+    return ratios[int(method)];
+}
+
+void BoundingWork::add(const BoundingWork& other) {
+    PATCHSIM_BOUNDING_WORK(PATCHSIM_WORK_ADD)
+}
+
+void BoundingWork::flush(Bounding method) const {
+    const BoundingCounters& c = boundingCounters(method);
+#define PATCHSIM_BOUNDING_FLUSH(field, ...) c.field += field;
+    PATCHSIM_BOUNDING_WORK(PATCHSIM_BOUNDING_FLUSH)
+#undef PATCHSIM_BOUNDING_FLUSH
+}
+
+void BoundingWork::charge(PatchOps& ops) const {PATCHSIM_BOUNDING_WORK(PATCHSIM_WORK_CHARGE)}
+
+std::vector<BoundingWork> rasterizeByBounds(const std::vector<MovingMesh>& meshes,
+                                            const RayCaster& caster,
+                                            const VisibilityTargets& targets,
+                                            const BoundingOptions& options) {
+    const VisibilityBuffer& buffer = *targets.opaque;
+    // Each sample's time once, for the interval method's strata.
+    std::vector<float> times;
+    if (options.method == Bounding::Interval) {
+        times.resize(buffer.records().size());
+        for (int y = 0; y < buffer.height(); ++y)
+            for (int x = 0; x < buffer.width(); ++x)
+                for (int s = 0; s < buffer.samplesPerPixel(); ++s)
+                    times[buffer.index(x, y, s)] = caster.samples.sample(x, y, s).time;
+    }
+    // Bands of rows in fixed slots, like the patch method's row classes: the same work and image
+    // for any thread count. Each band sets its triangles up again; only band 0 counts the setups.
+    constexpr int kBands = FramePartition::kClasses;
+    std::vector<std::vector<BoundingWork>> bandWork(kBands,
+                                                    std::vector<BoundingWork>(meshes.size()));
+    const int height = buffer.height();
+    parallelFor(kBands, options.threads, [&](int, std::size_t band) {
+        if (!options.partition.ownsClass(int(band))) return;
+        const int y0 = FramePartition::bandBegin(int(band), height),
+                  y1 = FramePartition::bandBegin(int(band) + 1, height);
+        VisibilityTargets mine = targets;
+        mine.pool = int(band);
+        const BandRasterizer rasterizer(caster, mine, options, times, y0, y1);
+        for (std::size_t i = 0; i < meshes.size(); ++i) {
+            BoundingWork& work = bandWork[band][i];
+            for (std::uint32_t tri = 0; tri < meshes[i].triangleCount(); ++tri)
+                rasterizer.triangle(meshes[i], tri, work);
+            if (band != 0) work.triangleSetups = work.fullScreenBounds = 0;  // counted once
+        }
+    });
+    std::vector<BoundingWork> perMesh(meshes.size());
+    for (const auto& band : bandWork)
+        for (std::size_t i = 0; i < meshes.size(); ++i) perMesh[i].add(band[i]);
+    return perMesh;
+}
+
+}  // namespace patchsim

@@ -1,0 +1,88 @@
+#pragma once
+// The stochastic rasterizers the patent improves on (DESIGN.md section 5): every triangle's screen
+// bounds, and every sample inside them tested against the triangle at the sample's time. Three
+// ways to bound, sharing the rest:
+//
+// - triangle-bbox (Akenine-Moller et al. 2007; McGuire et al. 2010): the triangle's bounds over the
+//   whole shutter and the whole lens, so every sample of the pixels inside is tested.
+// - interval (Fatahalian et al. 2009): the shutter split into K strata; per stratum the bounds of
+//   the triangle over that stratum, and only that stratum's samples tested.
+// - interleaved (accumulation buffer): sample index s has one time, lens point and sub-pixel shift
+//   in every pixel (SamplePattern::Interleaved), so each index is a static pass: per pass the
+//   triangle's exact screen bounds, and only that index's sample tested. Constant cost whatever
+//   the blur; strobing where things move.
+//
+// Bounds: a point moving linearly in front of the camera projects, from any one lens point, to a
+// segment between its projections at the ends; and over the lens disk it spreads by the circle of
+// confusion R |1/F - 1/depth|, largest at the ends of its depth range. So the box of the vertices'
+// projections at the ends of the time span, each widened by its own circle of confusion, holds the
+// triangle at every time and lens point of the span. A vertex in front of the near plane makes the
+// bounds the whole screen. Tests are the watertight ray-triangle test on the sample's own ray,
+// so these methods find the same nearest hit as the patch rasterizer and the reference for the
+// same samples.
+
+#include <functional>
+#include <vector>
+
+#include "core/camera.h"
+#include "core/ray.h"
+#include "core/samples.h"
+#include "core/work_counts.h"
+#include "rasterizer/common/frame_partition.h"
+#include "rasterizer/common/moving_mesh.h"
+#include "rasterizer/common/sample_rays.h"
+#include "rasterizer/common/visibility_targets.h"
+
+namespace patchsim {
+
+enum class Bounding : std::uint8_t { TriangleBBox, Interval, Interleaved };
+
+// X(field, "Name", "unit", kind, "definition", charges...) (core/work_counts.h): one list, one
+// counter per method and field ("BB/", "IV/", "IL/" + name).
+#define PATCHSIM_BOUNDING_WORK(X)                                                               \
+    X(triangleSetups, "Triangle setups", "setups", Sum,                                         \
+      "Triangle screen bounds computed (per triangle; per time stratum; per interleaved pass)", \
+      Op::TriangleSetups)                                                                       \
+    X(fullScreenBounds, "Full-screen bounds", "setups", Sum,                                    \
+      "Bounds that reached in front of the near plane: the whole screen")                       \
+    X(samplesTested, "Samples tested", "samples", Sum,                                          \
+      "Sample-triangle pairs tested, one watertight ray-triangle test each", Op::SamplesTested, \
+      Op::RayTriangleTests)                                                                     \
+    X(visibilitySamples, "Visibility samples", "samples", Sum,                                  \
+      "Tests that found a hit nearer than the sample's z-buffer entry", Op::DepthTests)         \
+    X(transparentFragments, "Transparent fragments", "fragments", Sum,                          \
+      "Transparent hits offered to a sample's layers", Op::TransparentFragments)                \
+    X(transparentOverflow, "Transparent overflow", "fragments", Sum,                            \
+      "Transparent fragments dropped because a sample's layers were full")
+
+struct BoundingCounters {
+    PATCHSIM_BOUNDING_WORK(PATCHSIM_WORK_HANDLE)
+};
+const BoundingCounters& boundingCounters(Bounding method);
+
+struct BoundingWork {
+    PATCHSIM_BOUNDING_WORK(PATCHSIM_WORK_FIELD)
+    void add(const BoundingWork& other);
+    void flush(Bounding method) const;  // into that method's counters
+    void charge(PatchOps& ops) const;
+};
+
+// Visibility samples / samples tested of one bounding method.
+const RatioCounter& boundingSampleTestEfficiency(Bounding method);
+
+struct BoundingOptions {
+    Bounding method = Bounding::TriangleBBox;
+    int timeStrata = 4;  // interval: K
+    int threads = 0;
+    // The bands of rows this process rasterizes.
+    FramePartition partition;
+};
+
+// Visibility of every mesh into `targets` (whose buffer must hold the frame); returns each
+// mesh's work. Counters are not flushed.
+std::vector<BoundingWork> rasterizeByBounds(const std::vector<MovingMesh>& meshes,
+                                            const RayCaster& caster,
+                                            const VisibilityTargets& targets,
+                                            const BoundingOptions& options);
+
+}  // namespace patchsim

@@ -1,0 +1,94 @@
+#include "rasterizer/baselines/reference_rasterizer.h"
+
+#include "core/counters.h"
+#include "rasterizer/common/conservative_margins.h"
+#include "rasterizer/common/watertight_triangle.h"
+#include "rasterizer/patent/raster_work.h"
+
+namespace patchsim {
+
+PATCHSIM_WORK_DEFINE(ReferenceWork, ReferenceCounters, referenceCounters, PATCHSIM_REFERENCE_WORK)
+
+const RatioCounter& referenceSampleTestEfficiency() {
+    static const RatioCounter ratio{"REF/Sample test efficiency",
+                                    "Reference visibility samples per ray-triangle test",
+                                    hitsCounter, triangleTestsCounter};
+    return ratio;
+}
+
+namespace {
+
+// The hit of `ray` on triangle `tri` of `mesh` at the ray's time, if any.
+bool hitTriangle(const MovingMesh& mesh, std::uint32_t tri, const ShearedRay& sheared,
+                 const Ray& ray, float lambdaMax, VisibilityRecord& record) {
+    const std::uint32_t* v = &mesh.indices[3 * std::size_t(tri)];
+    TriangleHit hit;
+    if (!intersectTriangle(sheared, mesh.vertexAt(v[0], ray.time), mesh.vertexAt(v[1], ray.time),
+                           mesh.vertexAt(v[2], ray.time), ray.lambdaMin, lambdaMax, hit))
+        return false;
+    record.depth = hit.lambda * ray.depthPerLambda;
+    record.patch = mesh.patchId;
+    record.triangle = tri;
+    record.b1 = hit.b1;
+    record.b2 = hit.b2;
+    return true;
+}
+
+}  // namespace
+
+void renderReferenceRows(const std::vector<MovingMesh>& meshes, const Camera& camera,
+                         const LensModel& lens, const SampleGenerator& samples, int y0, int y1,
+                         const VisibilityTargets& targets, ReferenceWork& total) {
+    ReferenceWork work;
+    RasterWork layerWork;
+    VisibilityBuffer& buffer = *targets.opaque;
+    for (int y = y0; y < y1; ++y) {
+        for (int x = 0; x < buffer.width(); ++x) {
+            for (int s = 0; s < buffer.samplesPerPixel(); ++s) {
+                const Sample smp = samples.sample(x, y, s);
+                const Vec2 screen =
+                    rasterToScreen(camera, Vec2(float(x), float(y)) + smp.pixelOffset);
+                const Ray ray =
+                    makeCameraRay(camera, screen, concentricDisk(smp.lens), smp.time, lens);
+                const ShearedRay sheared = shearRay(ray);
+                VisibilityRecord best, hit;
+                best.time = hit.time = smp.time;
+                best.lens = hit.lens = smp.lens;
+                for (const MovingMesh& mesh : meshes) {
+                    if (!mesh.opaque && targets.transparent) continue;
+                    for (std::uint32_t tri = 0; tri < mesh.triangleCount(); ++tri)
+                        if (hitTriangle(mesh, tri, sheared, ray, ray.lambdaMax, hit) &&
+                            hit.nearerThan(best))
+                            best = hit;
+                    work.triangleTests += std::int64_t(mesh.triangleCount());
+                }
+                // Transparent surfaces in front of the nearest opaque one (inclusive, widened as
+                // the patch method's z culling is, so both keep the same fragments).
+                const float opaqueLambda =
+                    best.hit() ? best.depth / ray.depthPerLambda * (1.0f + kDepthTieWidening)
+                               : ray.lambdaMax;
+                for (const MovingMesh& mesh : meshes) {
+                    if (mesh.opaque || !targets.transparent) continue;
+                    for (std::uint32_t tri = 0; tri < mesh.triangleCount(); ++tri) {
+                        if (!hitTriangle(mesh, tri, sheared, ray, opaqueLambda, hit)) continue;
+                        ++layerWork.transparentFragments;
+                        if (!targets.transparent->offer(buffer.index(x, y, s), targets.pool,
+                                                        LayerFragment{hit, mesh.objectId}))
+                            ++layerWork.transparentOverflow;
+                    }
+                    work.triangleTests += std::int64_t(mesh.triangleCount());
+                }
+                ++work.samples;
+                if (best.hit()) {
+                    ++work.hits;
+                    buffer.at(x, y, s) = best;
+                }
+            }
+        }
+    }
+    total.add(work);
+    work.flush();
+    layerWork.flush();
+}
+
+}  // namespace patchsim

@@ -1,0 +1,63 @@
+#include "rasterizer/patent/patch_rasterizer.h"
+
+#include "rasterizer/patent/branch_node.h"
+#include "rasterizer/patent/ray_stream.h"
+#include "rasterizer/patent/screen_bounds.h"
+#include "rasterizer/patent/tile_frustum.h"
+#include "rasterizer/patent/tile_traversal.h"
+
+namespace patchsim {
+
+PatchRasterizer::PatchRasterizer(const Camera& camera, const LensModel& lens,
+                                 const SampleGenerator& samples, const Effects& effects,
+                                 const RasterizerOptions& options)
+    : camera_(camera),
+      lens_(lens),
+      samples_(samples),
+      effects_(effects),
+      options_(options),
+      grid_{camera.width(), camera.height(), options.tileSize} {
+    if (!effects_.defocus) lens_.radius = 0;
+}
+
+void PatchRasterizer::prepareGroup(const MovingMesh& mesh, const std::uint32_t* triangles,
+                                   std::size_t count, Group& group, RasterWork& work,
+                                   const LeafVertexTable* leafTable) const {
+    group.hierarchy.buildOrdered(mesh, triangles, count, options_.leafSize, leafTable);
+    ++work.groups;
+    work.nodesBuilt += group.hierarchy.nodeCount();
+    const auto bytes = std::int64_t(group.hierarchy.bytes());
+    work.hierarchyBytes += bytes;
+    work.peakHierarchyBytes = std::max(work.peakHierarchyBytes, bytes);
+    group.nodes.build(group.hierarchy, options_.boundsSpace, camera_, lens_, work);
+    // In 2D the nodes are already projected: the bounds are their rectangles' union.
+    const ScreenBounds bounds =
+        options_.boundsSpace == BoundsSpace::Screen2D
+            ? screenBounds(group.hierarchy, options_.boundsLevel, camera_, group.nodes.screen)
+            : screenBounds(group.hierarchy, options_.boundsLevel, camera_, lens_);
+    work.fullScreenBounds += bounds.fullScreen;
+    group.tiles = tilesCovering(bounds, grid_);
+}
+
+void PatchRasterizer::rasterizeTile(const MovingMesh& mesh, const Group& group, int tileX,
+                                    int tileY, TileRays& rays, const VisibilityTargets& targets,
+                                    RasterWork& work) const {
+    const TileRect tile = grid_.rect(tileX, tileY);
+    ++work.tilesInBounds;
+    if (targets.pixels) targets.pixels->countTileTest(tileX, tileY);
+    const float farDepth = options_.zCulling ? rays.farthestDepthBound() : camera_.farPlane();
+    const TileTraversal traversal =
+        traverseTile(group.hierarchy, group.nodes, {&camera_, lens_, tile, farDepth},
+                     effects_.motion, timeRefinementOf(options_), work);
+    if (!traversal.overlaps) return;
+    ++work.tilesOverlapping;
+    const int branch = branchNode(options_.branchMethod, traversal, group.hierarchy.depth());
+    StreamPass pass{&mesh, &group.hierarchy, &traversal, branch, options_.zCulling};
+    if (!mesh.opaque && targets.transparent) {
+        pass.transparent = targets.transparent;
+        pass.pool = targets.pool;
+    }
+    traceRayStream(rays, pass, work);
+}
+
+}  // namespace patchsim

@@ -1,0 +1,77 @@
+#pragma once
+// The interface of a tile test under verification, and the registry of them (docs/TILE_TESTS.md).
+//
+// Representation
+// --------------
+// A variant takes one case (a moving box in camera space, a tile, a camera and a lens) and answers
+// whether the box may overlap the tile, when, and from where on the lens. Variants are objects
+// registered once: the built-ins by the registry on its first use (the patent's in
+// tile_test_variants.cpp, the literature's in tile_test_literature.cpp), a user's or a test's
+// with ScopedTileTest. The verifier (tile_test_verifier.h) runs every registered variant on every
+// case; the cases (tile_test_cases.h) are made per model.
+
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "core/camera.h"
+#include "core/lbbox.h"
+#include "core/ray.h"
+#include "core/time_range.h"
+#include "rasterizer/common/tile_grid.h"
+#include "rasterizer/verifier/tile_test_truth.h"
+
+namespace patchsim {
+
+struct TileTestInput {
+    const Camera* camera;
+    LensModel lens;  // radius 0 for pinhole cases
+    TileRect tile;
+    LBBox box;  // camera space
+};
+
+struct TileTestOutput {
+    bool accept = true;
+    TimeRange times = TimeRange::shutter();  // when the box may overlap the tile (if accepted)
+    LensRect lens = LensRect::whole();       // where on the lens (units of its radius)
+};
+
+// A tile test under verification.
+class TileTestVariant {
+  public:
+    virtual ~TileTestVariant() = default;
+    virtual std::string name() const = 0;
+    virtual bool handlesPinhole() const { return true; }
+    virtual bool handlesLens() const { return true; }
+    virtual TileTestOutput run(const TileTestInput& input) const = 0;
+};
+
+void registerTileTest(std::unique_ptr<TileTestVariant> variant);
+void unregisterTileTest(const std::string& name);
+const std::vector<std::unique_ptr<TileTestVariant>>& registeredTileTests();
+
+// Registered for the lifetime of this object (e.g. a deliberately broken variant in a test).
+class ScopedTileTest {
+  public:
+    explicit ScopedTileTest(std::unique_ptr<TileTestVariant> variant) : name_(variant->name()) {
+        registerTileTest(std::move(variant));
+    }
+    ~ScopedTileTest() { unregisterTileTest(name_); }
+    ScopedTileTest(const ScopedTileTest&) = delete;
+    ScopedTileTest& operator=(const ScopedTileTest&) = delete;
+
+  private:
+    std::string name_;
+};
+
+// The built-in variants, added to the registry on its first use (patent variants in
+// tile_test_variants.cpp, the literature's in tile_test_literature.cpp).
+void addPatentTileTests(std::vector<std::unique_ptr<TileTestVariant>>& out);
+void addLiteratureTileTests(std::vector<std::unique_ptr<TileTestVariant>>& out);
+
+enum class CaseModel : std::uint8_t { Pinhole, Lens, Hierarchy };
+const char* caseModelName(CaseModel model);
+bool parseCaseModel(const std::string& name, CaseModel& out);
+
+}  // namespace patchsim
