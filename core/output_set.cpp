@@ -52,6 +52,17 @@ extern "C" void cleanUpAndReraise(int signal) {
     std::raise(signal);
 }
 
+// The same file however it is written ("out/x", "./out/x", "out/../out/x").
+std::string identityOf(const std::string& path) {
+    std::error_code ec;
+    const fs::path p = fs::weakly_canonical(fs::absolute(path, ec), ec);
+    return p.lexically_normal().string();
+}
+
+bool blank(const std::string& name) {
+    return name.find_first_not_of(" \t\n\r") == std::string::npos;
+}
+
 std::string quoted(const fs::path& p) {
     return "'" + p.string() + "'";
 }
@@ -93,7 +104,7 @@ OutputSet::~OutputSet() {
 
 void OutputSet::folder(const std::string& path, const std::string& field) {
     std::error_code ec;
-    if (path.empty()) throw InputError(path, field, "empty folder name");
+    if (blank(path)) throw InputError(path, field, "empty folder name");
     const fs::path dir(path);
     if (fs::exists(dir, ec)) {
         if (!fs::is_directory(dir, ec))
@@ -119,7 +130,8 @@ void OutputSet::folder(const std::string& path, const std::string& field) {
 std::string OutputSet::file(const std::string& path, const std::string& field) {
     std::error_code ec;
     const fs::path p(path);
-    if (path.empty()) throw InputError(path, field, "empty output file name");
+    if (blank(path) || blank(p.filename().string()))
+        throw InputError(path, field, "empty output file name");
     if (fs::is_directory(p, ec)) throw InputError(path, field, "is a folder; give a file name");
     const fs::path dir = p.has_parent_path() ? p.parent_path() : fs::path(".");
     if (!fs::exists(dir, ec))
@@ -128,15 +140,28 @@ std::string OutputSet::file(const std::string& path, const std::string& field) {
         throw InputError(path, field, quoted(dir) + " is a file, not a folder");
     if (::access(dir.c_str(), W_OK) != 0)
         throw InputError(path, field, "folder " + quoted(dir) + " is not writable");
-    for (const Entry& e : files_)
-        if (e.path == path) return e.temporary;
+    const std::string identity = identityOf(path);
+    for (const Input& in : inputs_)
+        if (in.identity == identity)
+            throw InputError(path, field, "is the file " + in.field + " names, which is read");
+    for (const Entry& e : files_) {
+        if (e.identity != identity) continue;
+        if (e.field == field) return e.temporary;
+        throw InputError(path, field, "is written as " + e.field + " too");
+    }
     // Hidden, in the same folder (rename stays on one file system), same extension (image format).
     std::string name = p.stem().string();
     name.insert(0, 1, '.');
     name.append(".tmp-patchsim-").append(std::to_string(::getpid())).append(p.extension().string());
     const fs::path temporary = dir / name;
-    files_.push_back({path, temporary.string(), registerCleanup(temporary.string(), false)});
+    files_.push_back(
+        {path, temporary.string(), registerCleanup(temporary.string(), false), field, identity});
     return temporary.string();
+}
+
+void OutputSet::input(const std::string& path, const std::string& field) {
+    if (!path.empty() && path.rfind("builtin:", 0) != 0)
+        inputs_.push_back({identityOf(path), field});
 }
 
 void OutputSet::writeText(const std::string& path, const std::string& field,

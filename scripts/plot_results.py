@@ -424,14 +424,34 @@ def explore(csv_path, out_dir):
     return written
 
 
+MANIFEST = "plots.txt"
+
+
+def remove_earlier_plots(out_dir):
+    """The figures an earlier run listed in the folder's manifest, and only those, are removed:
+    a plot of a scene or parameter the new results no longer have must not stay beside them."""
+    manifest = os.path.join(out_dir, MANIFEST)
+    if not os.path.isfile(manifest):
+        return
+    with open(manifest) as f:
+        for name in f.read().split("\n"):
+            path = os.path.join(out_dir, name)
+            if name and os.path.basename(name) == name and os.path.isfile(path):
+                os.remove(path)
+
+
 def main():
     modes = {"sweep": sweep, "explore": explore}
     if len(sys.argv) != 4 or sys.argv[1] not in modes:
         sys.exit(__doc__)
     out_dir = sys.argv[3]
     os.makedirs(out_dir, exist_ok=True)
-    for path in modes[sys.argv[1]](sys.argv[2], out_dir):
-        print("wrote", path)
+    remove_earlier_plots(out_dir)
+    written = [os.path.basename(p) for p in modes[sys.argv[1]](sys.argv[2], out_dir)]
+    with open(os.path.join(out_dir, MANIFEST), "w") as f:
+        f.write("".join(name + "\n" for name in written))
+    for name in written:
+        print("wrote", os.path.join(out_dir, name))
 
 
 if __name__ == "__main__":

@@ -2,8 +2,10 @@
 // code 2, and nothing written anywhere (not in the folder the command ran in, not in /).
 
 #include <gtest/gtest.h>
+#include <sys/wait.h>
 
 #include <filesystem>
+#include <fstream>
 
 #include "tests/cli_runner.h"
 #include "tests/test_paths.h"
@@ -156,6 +158,70 @@ TEST(CliBadInput, RenderTakesFilmOverrides) {
     EXPECT_NE(stats.find("\"rasterizer.max_triangles_per_group\": \"0\""), std::string::npos);
     expectRefused("render -q --no-progress -o out --spp 4096 --width 16384 --height 16384",
                   "command line: --spp: film of 16384x16384 at 4096 spp needs");
+}
+
+// "--trace=" would have CLI11 take the next argument as the file; an empty argument where none
+// belongs is named as such; a name of blanks is no name.
+TEST(CliBadInput, EmptyAssignmentsAndArgumentsAreRefused) {
+    const std::string scene = sourcePath("scenes/static.json");
+    expectRefused("render " + scene + " --trace= -q -o out", "command line: --trace: empty value");
+    expectRefused("tessellate " + scene + " --stats= -q", "command line: --stats: empty value");
+    expectRefused("''", "command line: an argument nothing takes: ''");
+    expectRefused("render " + scene + " -o ' '", "--output: empty folder name");
+    expectRefused("tessellate " + scene + " -o '  '", "--output: empty output file name");
+}
+
+// One output must not overwrite another, nor a file the command reads.
+TEST(CliBadInput, NoOutputOverwritesAnInputOrAnotherOutput) {
+    const std::string cwd = emptyFolder("overwrite");
+    const std::string scene = cwd + "/scene.json", grid = cwd + "/grid.json";
+    std::ofstream(scene) << R"({"film": {"width": 16, "height": 12, "spp": 1},
+        "objects": [{"cage": ")"
+                         << sourcePath("scenes/cages/catmark_torus.obj") << R"("}]})";
+    std::ofstream(grid) << R"({"rasterizer": {"tile_size": [8]}})";
+    const auto refused = [&](const std::string& args, const std::string& message) {
+        const CommandResult r = run(args, cwd);
+        EXPECT_EQ(r.exitCode, 2) << args << "\n" << r.output;
+        EXPECT_NE(r.output.find(message), std::string::npos) << args << "\n" << r.output;
+        EXPECT_EQ(listTree(cwd), (std::vector<std::string>{"grid.json", "scene.json"})) << args;
+    };
+    refused("tessellate scene.json -o same.obj --stats same.obj",
+            "same.obj: --stats: is written as -o too");
+    refused("render scene.json -q --no-progress -o out --trace out/stats.json",
+            "out/stats.json: --trace: is written as -o too");
+    refused("render scene.json -q --no-progress -o out --trace ./scene.json",
+            "./scene.json: --trace: is the file scene names, which is read");
+    refused("tessellate scene.json -o scene.json", "scene.json: -o: is the file scene names");
+    refused("explore scene.json --grid grid.json -o grid.json --no-progress",
+            "grid.json: -o: is the file --grid names, which is read");
+    refused("verify-tiles --cases 10 --csv a.csv --summary a.csv",
+            "a.csv: --csv: is written as --summary too");
+}
+
+// Under mpirun every rank reads the same command line and inputs: an error in them is said once.
+TEST(CliBadInput, AnErrorUnderMpiIsSaidOnce) {
+    if (std::system("command -v mpirun > /dev/null 2>&1") != 0) GTEST_SKIP() << "no mpirun";
+    const std::string cwd = emptyFolder("mpi-once");
+    const std::string mpi =
+        "ASAN_OPTIONS=detect_leaks=0 OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 "
+        "timeout 120 mpirun -np 2 --oversubscribe -x ASAN_OPTIONS " +
+        std::string(PATCHSIM_BINARY) + " ";
+    for (const std::string& args :
+         {std::string("render --spp nan -o out"), std::string("render /nonexistent.json -o out"),
+          std::string("explore --grid /nonexistent.json -o x.csv")}) {
+        const std::string log = patchsim::test::temporaryDirectory() + "/mpi-once.log";
+        const int status =
+            std::system(("cd " + cwd + " && " + mpi + args + " > " + log + " 2>&1").c_str());
+        ASSERT_TRUE(WIFEXITED(status));
+        EXPECT_EQ(WEXITSTATUS(status), 2) << args;
+        const std::string out = readFile(log);
+        const std::size_t first = out.find("patchsim: error: ");
+        EXPECT_NE(first, std::string::npos) << args << "\n" << out;
+        EXPECT_EQ(out.find("patchsim: error: ", first + 1), std::string::npos)
+            << "said twice: " << args << "\n"
+            << out;
+        EXPECT_TRUE(listTree(cwd).empty()) << args;
+    }
 }
 
 }  // namespace

@@ -141,6 +141,27 @@ TEST(CliSweep, DamagedConvergedImagesAreRenderedAgain) {
     EXPECT_EQ(csvColumn(readFile(dir + "/results.csv"), 10).at(0), rmse);
 }
 
+// Labels name files and CSV fields: never two runs with one name, never a comma in a field.
+TEST(CliSweep, RunLabelsNeverCollide) {
+    const std::string tmp = patchsim::test::temporaryDirectory();
+    fs::create_directories(tmp + "/labels");
+    const std::string a = smallScene("labels/motion.json"),
+                      b = smallScene("labels/motion-blur2.json"), c = smallScene("labels/x,y.json");
+    fs::copy_file(sourcePath("scenes/cages/catmark_torus.obj"), tmp + "/labels/motion.obj",
+                  fs::copy_options::overwrite_existing);
+    const std::string dir = freshFolder("labels-out");
+    const CommandResult r = run("sweep " + a + " " + b + " " + c + " " + tmp +
+                                "/labels/motion.obj --methods patch --spp 1 --blur 1,2 "
+                                "--repeats 1 --no-progress --converged-spp 2 -o " +
+                                dir);
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    const std::vector<std::string> labels = csvColumn(readFile(dir + "/results.csv"), 0);
+    EXPECT_EQ(labels, (std::vector<std::string>{"motion", "motion-blur2", "motion-blur2-2",
+                                                "motion-blur2-blur2", "x_y", "x_y-blur2",
+                                                "motion-2", "motion-blur2-3"}));
+    EXPECT_EQ(listTree(dir + "/images").size(), 2 * labels.size());
+}
+
 // The scene's own film.spp is not what a sweep renders; every --spp is checked before any run.
 TEST(CliSweep, EveryRunIsCheckedAgainstTheMemoryBudgetFirst) {
     const std::string scene = writeFile("budget.json", R"({"film": {"width": 256, "height": 256,
@@ -174,6 +195,24 @@ TEST(CliSweep, ConvergedSamplesBelowTheRunsAreWarnedOf) {
     EXPECT_NE(r.output.find("warning: --converged-spp 4 is below the largest --spp 8"),
               std::string::npos)
         << r.output;
+}
+
+// Plots of scenes an earlier sweep had are removed with the earlier images; other files stay.
+TEST(CliSweep, PlotsOfAnEarlierSweepAreRemoved) {
+    if (std::system("/usr/bin/python3 -c 'import matplotlib' > /dev/null 2>&1") != 0)
+        GTEST_SKIP() << "no matplotlib";
+    const std::string dir = freshFolder("stale-plots");
+    const std::string args =
+        " --methods patch --spp 1 --repeats 1 --no-progress --converged-spp 2 -o " + dir;
+    ASSERT_EQ(run("sweep " + smallScene("first.json") + args).exitCode, 0);
+    ASSERT_TRUE(fs::exists(dir + "/plots/first.png"));
+    std::ofstream(dir + "/plots/mine.png") << "the user's own";
+    const CommandResult r = run("sweep " + smallScene("second.json") + args);
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    EXPECT_FALSE(fs::exists(dir + "/plots/first.png"));
+    EXPECT_FALSE(fs::exists(dir + "/plots/first.svg"));
+    EXPECT_TRUE(fs::exists(dir + "/plots/second.png"));
+    EXPECT_TRUE(fs::exists(dir + "/plots/mine.png"));
 }
 
 // Ctrl-C in the middle of a sweep: no hidden temporaries, no empty folders.

@@ -119,7 +119,14 @@ TEST(Cli, BadInputFailsCleanly) {
     const std::string huge = writeFile(
         "huge.json",
         R"({"film": {"width": 16384, "height": 16384, "spp": 4096}, "objects": [{"cage": "x.obj"}]})");
-    expectCleanFailure(huge, "over the memory budget");
+    // Refused by the command that would render the film (tessellate renders none).
+    const std::string out = patchsim::test::temporaryDirectory() + "/huge-render";
+    const CommandResult r = run("render -q --no-progress " + huge + " -o " + out);
+    EXPECT_EQ(r.exitCode, 2) << r.output;
+    EXPECT_NE(r.output.find("huge.json: film.spp: film of 16384x16384 at 4096 spp needs"),
+              std::string::npos)
+        << r.output;
+    EXPECT_FALSE(fs::exists(out));
 }
 
 TEST(Cli, NonRegularFilesAndDuplicateKeysAreRefused) {
@@ -190,13 +197,25 @@ TEST(Cli, CommandLineNumbersAreCheckedWithClearMessages) {
     r = run("explore --grid x.json --threads -3");
     EXPECT_EQ(r.exitCode, 2) << r.output;
     EXPECT_NE(r.output.find("--threads: -3 is outside [0, 4096]"), std::string::npos) << r.output;
-    r = run("info --memory-budget-mib 17592186044416");
+    const std::string out = patchsim::test::temporaryDirectory() + "/budget";
+    r = run("render -q --no-progress -o " + out + " --memory-budget-mib 17592186044416");
     EXPECT_EQ(r.exitCode, 2) << r.output;
     EXPECT_NE(r.output.find("--memory-budget-mib"), std::string::npos) << r.output;
     // The budget holds for the built-in scene too (it asks for 320x240 at 16 spp, 37 MiB).
-    r = run("info --memory-budget-mib 1");
+    r = run("render -q --no-progress -o " + out + " --memory-budget-mib 1");
     EXPECT_EQ(r.exitCode, 2) << r.output;
-    EXPECT_NE(r.output.find("over the memory budget of 1 MiB"), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("builtin:default.json: film.spp: film of 320x240 at 16 spp needs 37 "
+                            "MiB, over the memory budget of 1 MiB"),
+              std::string::npos)
+        << r.output;
+    EXPECT_FALSE(fs::exists(out));
+    // A scene's own film does not stop the commands that render none, nor a smaller --spp.
+    r = run("info --memory-budget-mib 1");
+    EXPECT_EQ(r.exitCode, 2) << "info renders no film: no budget option\n" << r.output;
+    r = run("info");
+    EXPECT_EQ(r.exitCode, 0) << r.output;
+    r = run("render -q --no-progress -o " + out + " --memory-budget-mib 3 --spp 1");
+    EXPECT_EQ(r.exitCode, 0) << "the film rendered is 320x240 at 1 spp\n" << r.output;
     r = run("--help");
     EXPECT_NE(r.output.find("out/"), std::string::npos) << "a bare patchsim writes out/";
 }
@@ -353,6 +372,22 @@ TEST(Cli, RenderWritesHeatMapsAndUsesTheBackEndOptions) {
     EXPECT_NE(text.find("\"filter\": \"gaussian\""), std::string::npos);
     EXPECT_NE(text.find("\"max layers\": \"4\""), std::string::npos);
     EXPECT_NE(text.find("\"OM/Transparent fragments\""), std::string::npos);
+}
+
+// Heat maps of an earlier render in the folder would describe another frame.
+TEST(Cli, RenderRemovesHeatMapsOfAnEarlierRender) {
+    const std::string dir = patchsim::test::temporaryDirectory() + "/heat-stale";
+    const std::string args = "render -q --no-progress --width 32 --height 24 --spp 1 -o " + dir;
+    ASSERT_EQ(run(args + " --heatmaps").exitCode, 0);
+    ASSERT_TRUE(fs::exists(dir + "/heat_rays_cast_pixel.png"));
+    std::ofstream(dir + "/heat_mine.png") << "the user's own";
+    ASSERT_EQ(run(args + " --method interval").exitCode, 0);
+    std::vector<std::string> left;
+    for (const auto& entry : fs::directory_iterator(dir))
+        left.push_back(entry.path().filename().string());
+    std::sort(left.begin(), left.end());
+    EXPECT_EQ(left,
+              (std::vector<std::string>{"heat_mine.png", "image.exr", "image.png", "stats.json"}));
 }
 
 TEST(Cli, ProgressBarOnlyOnATerminal) {

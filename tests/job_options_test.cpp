@@ -59,6 +59,8 @@ TEST(JobOptions, RangesHonourTheirOpenEnds) {
         }
         if (std::string(o.flag) == "--blur") {
             EXPECT_NE(refusal(o, "0"), "");
+            // Above 0 as written, 0 as the float it is held in.
+            EXPECT_NE(refusal(o, "1e-50").find("as a single-precision number"), std::string::npos);
             EXPECT_EQ(refusal(o, "1000"), "");
         }
         if (std::string(o.flag) == "--pp-samples") {

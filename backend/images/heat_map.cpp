@@ -115,6 +115,17 @@ void addMaps(const PixelCounters& pixels, const char* file, const std::string& t
 
 }  // namespace
 
+std::vector<std::string> heatMapFileNames() {
+    std::vector<std::string> files;
+    for (const auto& q : kPixelQuantities)
+        for (const char* grid : {"_pixel.png", "_tile.png"})
+            files.push_back(std::string("heat_") + q.file + grid);
+    for (const char* grid : {"_pixel.png", "_tile.png"})
+        files.push_back(std::string("heat_ste") + grid);
+    files.push_back("heat_tile_tests_tile.png");
+    return files;
+}
+
 std::vector<std::string> writeHeatMaps(const PixelCounters& pixels, const std::string& dir,
                                        OutputSet& outputs) {
     std::vector<std::string> written;

@@ -33,4 +33,7 @@ void writeHeatMap(const HeatMapGrid& grid, const std::string& path);
 std::vector<std::string> writeHeatMaps(const PixelCounters& pixels, const std::string& dir,
                                        OutputSet& outputs);
 
+// The name of every file writeHeatMaps writes ("heat_rays_cast_pixel.png", ...).
+std::vector<std::string> heatMapFileNames();
+
 }  // namespace patchsim

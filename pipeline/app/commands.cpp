@@ -56,10 +56,19 @@ EffectOverrides overridesOf(const JobSettings& s) {
     return o;
 }
 
+// Scenes are read without a film budget: the film a command renders is checked where it is
+// known (render after --spp/--width/--height; sweep at every --spp; explore at every grid film).
+// info and tessellate render no film.
+SceneLimits unlimited() {
+    SceneLimits l;
+    l.memoryBudgetBytes = ~std::uint64_t(0);
+    return l;
+}
+
 // The one scene of info, tessellate and render: the built-in one when none is named.
 SceneDesc loadScene(const JobSettings& s) {
-    if (s.scenes.empty()) return defaultScene(s.limits());
-    return readScene(s.scenes.front(), s.limits());
+    if (s.scenes.empty()) return defaultScene(unlimited());
+    return readScene(s.scenes.front(), unlimited());
 }
 
 HardwareConfig hardwareOf(const JobSettings& s) {
@@ -128,9 +137,12 @@ void applyRenderOverrides(const JobSettings& s, SceneDesc& scene) {
     if (s.spp > 0) scene.film.samplesPerPixel = s.spp;
     if (s.width > 0) scene.film.width = s.width;
     if (s.height > 0) scene.film.height = s.height;
-    const char* field = s.spp > 0 ? "--spp" : s.width > 0 ? "--width" : "--height";
-    if (s.spp > 0 || s.width > 0 || s.height > 0)
+    if (s.spp > 0 || s.width > 0 || s.height > 0) {
+        const char* field = s.spp > 0 ? "--spp" : s.width > 0 ? "--width" : "--height";
         checkMemoryBudget(scene.film, s.limits(), "command line", field);
+    } else {
+        checkMemoryBudget(scene.film, s.limits(), scene.path);
+    }
 }
 
 std::vector<std::pair<std::string, std::string>> renderFacts(
@@ -161,11 +173,54 @@ std::vector<std::pair<std::string, std::string>> renderFacts(
             {"hardware", hardware.empty() ? "builtin:hw/default.json" : hardware}};
 }
 
+// The files a command reads, so that no output of its may overwrite one of them.
+void protectInputs(OutputSet& outputs, const JobSettings& s,
+                   const std::vector<const SceneDesc*>& scenes) {
+    for (const SceneDesc* scene : scenes) {
+        outputs.input(scene->path, "scene");
+        for (std::size_t i = 0; i < scene->objects.size(); ++i) {
+            const ObjectDesc& o = scene->objects[i];
+            const std::string field = "objects[" + std::to_string(i) + "]";
+            outputs.input(o.cagePath, field + ".cage");
+            outputs.input(o.cageClosePath, field + ".cage_close");
+        }
+    }
+    outputs.input(s.hardware, "--hw");
+    outputs.input(s.grid, "--grid");
+}
+
+// Runs `read` on every rank. An input every rank reads alike fails on all of them: rank 0 says
+// why, once, and every rank stops (false). Outside mpirun the error goes up as any other.
+template <class Read>
+bool readOnEveryRank(const MpiContext& mpi, Read read) {
+    if (!mpi.active()) {
+        read();
+        return true;
+    }
+    std::string error;
+    try {
+        read();
+    } catch (const InputError& e) {
+        error = e.what();
+    }
+    const std::vector<std::string> errors = mpi.gather(error);
+    if (mpi.allSucceeded(error.empty())) return true;
+    for (std::size_t r = 0; r < errors.size(); ++r) {
+        if (errors[r].empty()) continue;
+        std::cerr << "patchsim: error: " << (r > 0 ? "rank " + std::to_string(r) + ": " : "")
+                  << errors[r] << "\n";
+        break;
+    }
+    return false;
+}
+
 // Reserves render's outputs on rank 0; every rank learns whether that succeeded.
-bool reserveRenderOutputs(const JobSettings& s, const MpiContext& mpi, OutputSet& outputs) {
+bool reserveRenderOutputs(const JobSettings& s, const SceneDesc& scene, const MpiContext& mpi,
+                          OutputSet& outputs) {
     std::exception_ptr outputError;
     if (mpi.rank() == 0) {
         try {
+            protectInputs(outputs, s, {&scene});
             outputs.folder(s.output, "-o");
             for (const char* name : {"image.exr", "image.png", "stats.json"})
                 outputs.file(joinOutputPath(s.output, name), "-o");
@@ -179,6 +234,35 @@ bool reserveRenderOutputs(const JobSettings& s, const MpiContext& mpi, OutputSet
         return false;  // rank 0 refused the outputs and said why
     }
     return true;
+}
+
+// The frame's files, through `outputs`; returns the heat maps written.
+std::vector<std::string> writeRenderOutputs(const JobSettings& s, const RenderResult& result,
+                                            const StatsContext& context,
+                                            const CounterValues& counters, OutputSet& outputs) {
+    writeExrWithAovs(result.frame, outputs.file(joinOutputPath(s.output, "image.exr"), "-o"));
+    writePng(result.frame.color, outputs.file(joinOutputPath(s.output, "image.png"), "-o"));
+    std::vector<std::string> heatMaps;
+    if (result.pixels) heatMaps = writeHeatMaps(*result.pixels, s.output, outputs);
+    outputs.writeText(joinOutputPath(s.output, "stats.json"), "-o",
+                      [&](std::ostream& out) { writeStatsJson(out, context, counters); });
+    if (!s.trace.empty())
+        outputs.writeText(s.trace, "--trace",
+                          [&](std::ostream& out) { writeChromeTrace(*context.timing, out); });
+    return heatMaps;
+}
+
+// Heat maps an earlier render left in the folder would sit beside a frame they do not describe.
+void removeEarlierHeatMaps(const std::string& folder, const std::vector<std::string>& written) {
+    namespace fs = std::filesystem;
+    std::vector<std::string> names;
+    for (const std::string& w : written) names.push_back(fs::path(w).filename().string());
+    for (const std::string& name : heatMapFileNames()) {
+        if (std::find(names.begin(), names.end(), name) != names.end()) continue;
+        std::error_code ec;
+        const fs::path p = fs::path(folder) / name;
+        if (fs::is_regular_file(p, ec)) fs::remove(p, ec);
+    }
 }
 
 void printRenderSummary(const JobSettings& s, const SceneDesc& scene, const RenderOptions& options,
@@ -205,6 +289,7 @@ int runInfo(const JobSettings& s) {
 int runTessellate(const JobSettings& s) {
     FrontEnd frontEnd(loadScene(s));
     OutputSet outputs;
+    protectInputs(outputs, s, {&frontEnd.scene()});
     outputs.file(s.output, "-o");  // checked before the work
     if (!s.stats.empty()) outputs.file(s.stats, "--stats");
     TessellateOptions options;
@@ -225,15 +310,21 @@ int runTessellate(const JobSettings& s) {
 }
 
 int runRender(const JobSettings& s, const MpiContext& mpi) {
-    SceneDesc scene = loadScene(s);
-    applyRenderOverrides(s, scene);
-    RenderOptions options = renderOptionsOf(s);
+    SceneDesc scene;
+    RenderOptions options;
+    HardwareConfig hardware;
+    const bool read = readOnEveryRank(mpi, [&] {
+        scene = loadScene(s);
+        applyRenderOverrides(s, scene);
+        options = renderOptionsOf(s);
+        hardware = hardwareOf(s);
+    });
+    if (!read) return 2;
     options.threads = mpi.threadsPerRank(s.threads);
-    const HardwareConfig hardware = hardwareOf(s);
     // Every output path is checked before the work; nothing is written unless all succeed. Under
     // mpirun the frame is split across ranks by screen tiles and rank 0 writes the one output.
     OutputSet outputs;
-    if (!reserveRenderOutputs(s, mpi, outputs)) return 2;
+    if (!reserveRenderOutputs(s, scene, mpi, outputs)) return 2;
     if (mpi.active()) {
         options.share = {mpi.rank(), mpi.size(),
                          [&mpi](const std::string& mine) { return mpi.gather(mine); },
@@ -246,19 +337,14 @@ int runRender(const JobSettings& s, const MpiContext& mpi) {
     for (const std::string& note : result.notes) std::cerr << "patchsim: " << note << "\n";
     const TimingReport timing = simulateTiming(result.patchOps, hardware);
     const CounterValues counters = CounterRegistry::instance().snapshot();
-    writeExrWithAovs(result.frame, outputs.file(joinOutputPath(s.output, "image.exr"), "-o"));
-    writePng(result.frame.color, outputs.file(joinOutputPath(s.output, "image.png"), "-o"));
-    std::vector<std::string> heatMaps;
-    if (result.pixels) heatMaps = writeHeatMaps(*result.pixels, s.output, outputs);
     const double ste = counters.ratio(options.visibilityMethod().sampleTestEfficiency());
     StatsContext context{"render", scene.path, {}, {}, &timing};
     context.facts = renderFacts(scene, options, result, counters, ste, s.hardware);
     context.options = recordedOptions(Command::Render, s, &scene.rasterizer);
-    writeStats(outputs, joinOutputPath(s.output, "stats.json"), "-o", context);
-    if (!s.trace.empty())
-        outputs.writeText(s.trace, "--trace",
-                          [&](std::ostream& out) { writeChromeTrace(timing, out); });
+    const std::vector<std::string> heatMaps =
+        writeRenderOutputs(s, result, context, counters, outputs);
     outputs.commit();
+    removeEarlierHeatMaps(s.output, heatMaps);
     if (!s.quiet) printCounterTable(std::cout, counters);
     if (mpi.active())
         std::cout << "split across " << mpi.size() << " MPI ranks by tile-row classes\n";
@@ -270,13 +356,21 @@ int runRender(const JobSettings& s, const MpiContext& mpi) {
 int runExplore(const JobSettings& s, const MpiContext& mpi) {
     const SceneLimits limits = s.limits();
     std::vector<SceneDesc> scenes;
-    for (const std::string& path : s.scenes) scenes.push_back(readScene(path, limits));
-    if (scenes.empty()) scenes.push_back(defaultScene(limits));
-    const ExploreGrid grid = parseExploreGrid(
-        readNamedFile(s.grid, "--grid", [](const std::string& p) { return readTextFile(p); }),
-        s.grid);
-    const HardwareConfig hardware = hardwareOf(s);
+    ExploreGrid grid;
+    HardwareConfig hardware;
+    const bool read = readOnEveryRank(mpi, [&] {
+        for (const std::string& path : s.scenes) scenes.push_back(readScene(path, unlimited()));
+        if (scenes.empty()) scenes.push_back(defaultScene(unlimited()));
+        grid = parseExploreGrid(
+            readNamedFile(s.grid, "--grid", [](const std::string& p) { return readTextFile(p); }),
+            s.grid);
+        hardware = hardwareOf(s);
+    });
+    if (!read) return 2;
     OutputSet outputs;  // only rank 0 writes; every rank checks the paths alike
+    std::vector<const SceneDesc*> inputs;
+    for (const SceneDesc& scene : scenes) inputs.push_back(&scene);
+    protectInputs(outputs, s, inputs);
     // The plots' folder first: it may be the CSV's too, made by this command.
     const PlotJob plots{"explore", s.output, s.plots};
     if (!s.plots.empty()) addPlotScript(outputs, plots, "--plots");
@@ -336,20 +430,26 @@ int runSweepCommand(const JobSettings& s) {
     o.limits = s.limits();
     o.outputDir = s.output;
     o.progress = !s.noProgress;
-    // The scenes' own film.spp is not what the sweep renders: their films are checked against
-    // the budget at every --spp below, before the first run.
-    SceneLimits unlimited;
-    unlimited.memoryBudgetBytes = ~std::uint64_t(0);
     std::vector<std::string> paths = s.scenes;
     if (paths.empty()) paths.push_back("");
+    const std::vector<std::string> labels = sweepSceneLabels(paths, s.blurList);
     std::vector<SweepScene> scenes;
     for (const std::string& path : paths) {
-        const SceneDesc scene = path.empty() ? defaultScene(unlimited) : readScene(path, unlimited);
+        const SceneDesc scene =
+            path.empty() ? defaultScene(unlimited()) : readScene(path, unlimited());
         for (float blur : s.blurList) {
-            scenes.push_back({sweepSceneLabel(path, blur, paths),
-                              blur == 1.0f ? scene : scaleBlur(scene, blur)});
+            scenes.push_back(
+                {labels[scenes.size()], blur == 1.0f ? scene : scaleBlur(scene, blur)});
         }
     }
+    for (const SweepScene& scene : scenes) {
+        o.inputs.push_back({scene.scene.path, "scene"});
+        for (const ObjectDesc& object : scene.scene.objects) {
+            o.inputs.push_back({object.cagePath, "cage"});
+            o.inputs.push_back({object.cageClosePath, "cage_close"});
+        }
+    }
+    o.inputs.push_back({s.hardware, "--hw"});
     runSweep(scenes, o, std::cout);
     return 0;
 }

@@ -19,6 +19,7 @@ constexpr unsigned kInfo = commandBit(Command::Info), kTess = commandBit(Command
                    kVerify = commandBit(Command::VerifyTiles), kSweep = commandBit(Command::Sweep),
                    kExplore = commandBit(Command::Explore);
 constexpr unsigned kScenes = kInfo | kTess | kRender | kSweep | kExplore;
+constexpr unsigned kFilms = kRender | kSweep | kExplore;  // the commands that render films
 
 std::vector<std::string> methodNames() {
     std::vector<std::string> names;
@@ -165,7 +166,7 @@ std::vector<JobOption> makeTable() {
     t.push_back(O("--threads", kScenes | kVerify, K::Integer, &S::threads,
                   "Worker threads (0: all cores; under mpirun, this rank's share of them)")
                     .in(0, 4096));
-    t.push_back(O("--memory-budget-mib", kScenes, K::Integer, &S::memoryBudgetMiB,
+    t.push_back(O("--memory-budget-mib", kFilms, K::Integer, &S::memoryBudgetMiB,
                   "MiB the film's samples and the rasterizer's tile scratch may take")
                     .in(1, double(std::int64_t(1) << 30))
                     .recordedAs("memory_budget_mib"));
@@ -210,9 +211,14 @@ std::string parseReal(const JobOption& o, const std::string& text, double& out) 
     const auto [ptr, ec] = std::from_chars(text.data(), end, out);
     if (ec != std::errc() || ptr != end || !std::isfinite(out))
         return "expected a finite number in " + rangeText(o) + ", found " + quoted(text);
-    const bool below = o.loOpen ? !(out > o.lo) : !(out >= o.lo);
-    const bool above = o.hiOpen ? !(out < o.hi) : !(out <= o.hi);
-    if (below || above) return quoted(text) + " is outside " + rangeText(o);
+    // Every real option is held as a float: the range must hold for the value it becomes.
+    const double held = double(float(out));
+    const bool below = o.loOpen ? !(held > o.lo) : !(held >= o.lo);
+    const bool above = o.hiOpen ? !(held < o.hi) : !(held <= o.hi);
+    if (below || above)
+        return quoted(text) + " is outside " + rangeText(o) +
+               (held != out ? " as a single-precision number" : "");
+    out = held;
     return {};
 }
 
@@ -243,7 +249,8 @@ std::string checkDistinct(const std::vector<T>& values, const std::string& text)
 }
 
 std::string checkPath(const JobOption& o, const std::string& text) {
-    if (text.empty())
+    // A name of only blanks is as good as none: it would make a file nobody can see is there.
+    if (text.find_first_not_of(" \t\n\r") == std::string::npos)
         return o.kind == K::OutputFolder ? "empty folder name"
                : o.kind == K::InputPath  ? "empty file name"
                                          : "empty output file name";

@@ -102,7 +102,14 @@ int refuseUnderMpi(Command c, const MpiContext& mpi) {
 int run(const Subcommand& sub, const MpiContext& mpi) {
     const bool splitsOverRanks = sub.command == Command::Render || sub.command == Command::Explore;
     if (mpi.size() > 1 && !splitsOverRanks) return refuseUnderMpi(sub.command, mpi);
-    const JobSettings s = settingsOf(sub);
+    JobSettings s;
+    try {
+        s = settingsOf(sub);
+    } catch (const InputError& e) {
+        // Every rank has the same command line: one says what is wrong with it.
+        if (mpi.rank() == 0) std::cerr << "patchsim: error: " << e.what() << "\n";
+        return 2;
+    }
     switch (sub.command) {
         case Command::Info:
             return runInfo(s);
@@ -118,6 +125,26 @@ int run(const Subcommand& sub, const MpiContext& mpi) {
             return runExplore(s, mpi);
     }
     return 3;
+}
+
+// "--trace=" would make CLI11 take the next argument as the value: an empty value is refused,
+// as it is when written "--trace ''".
+void refuseEmptyAssignments(int argc, char** argv) {
+    for (int i = 1; i < argc; ++i) {
+        const std::string arg = argv[i];
+        if (arg.rfind("--", 0) == 0 && arg.size() > 3 && arg.back() == '=' &&
+            arg.find('=') == arg.size() - 1)
+            throw CLI::ValidationError(arg.substr(0, arg.size() - 1), "empty value");
+    }
+}
+
+// The arguments nothing took, each quoted (an empty one shows as '').
+std::string extrasText(const CLI::App& app) {
+    const std::vector<std::string> extras = app.remaining(/*recurse=*/true);
+    std::string text =
+        extras.size() == 1 ? "an argument nothing takes:" : "arguments nothing takes:";
+    for (const std::string& e : extras) text += " '" + e + "'";
+    return text;
 }
 
 const char* describe(Command c) {
@@ -163,7 +190,12 @@ int main(int argc, char** argv) {
         "defocus) into out/ (out/image.exr, out/image.png, out/stats.json), as "
         "`patchsim render -o out` would.");
     try {
+        refuseEmptyAssignments(argc, argv);
         app.parse(argc, argv);
+    } catch (const CLI::ExtrasError& e) {
+        if (mpi.rank() == 0)
+            std::cerr << "patchsim: error: command line: " << extrasText(app) << "\n";
+        return 2;
     } catch (const CLI::CallForHelp& e) {
         return app.exit(e);
     } catch (const CLI::CallForAllHelp& e) {

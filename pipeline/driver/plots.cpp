@@ -1,6 +1,10 @@
 #include "pipeline/driver/plots.h"
 
+#include <sys/wait.h>
+
+#include <csignal>
 #include <cstdlib>
+#include <filesystem>
 #include <vector>
 
 #include "core/output_set.h"
@@ -42,8 +46,12 @@ void addPlotScript(OutputSet& outputs, const PlotJob& job, const std::string& fi
 }
 
 bool drawPlots(const PlotJob& job, std::ostream& log) {
-    const std::string script = shellQuoted(job.folder + "/" + kScript) + " " + job.mode + " " +
-                               shellQuoted(job.csv) + " " + shellQuoted(job.folder);
+    // Absolute paths: a folder named "-plots" must not reach Python as an option.
+    const auto path = [](const std::string& p) {
+        return shellQuoted(std::filesystem::absolute(p).string());
+    };
+    const std::string script = path(job.folder + "/" + kScript) + " " + job.mode + " " +
+                               path(job.csv) + " " + path(job.folder);
     const std::string python = pythonWithMatplotlib();
     if (python.empty()) {
         log << "plots skipped: no Python with matplotlib and numpy (Debian: apt-get install "
@@ -54,7 +62,16 @@ bool drawPlots(const PlotJob& job, std::ostream& log) {
     const std::string plotsLog = job.folder + "/plots.log";
     const std::string command =
         shellQuoted(python) + " " + script + " > " + shellQuoted(plotsLog) + " 2>&1";
-    if (std::system(command.c_str()) != 0) {
+    const int status = std::system(command.c_str());
+    // The shell ignores an interrupt while Python runs; Python dies of it, and so do we, as an
+    // interrupted command should (the results are already in place).
+    if (WIFSIGNALED(status) && (WTERMSIG(status) == SIGINT || WTERMSIG(status) == SIGTERM)) {
+        log << std::flush;
+        std::raise(WTERMSIG(status));
+    }
+    const bool interrupted = WIFEXITED(status) && WEXITSTATUS(status) == 128 + SIGINT;
+    if (interrupted) std::raise(SIGINT);
+    if (status != 0) {
         log << "plotting failed; see " << plotsLog << "\n";
         return false;
     }

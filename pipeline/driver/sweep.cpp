@@ -1,6 +1,7 @@
 #include "pipeline/driver/sweep.h"
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -80,8 +81,11 @@ SceneDesc scaleBlur(const SceneDesc& scene, float k) {
     return s;
 }
 
-std::string sweepSceneLabel(const std::string& path, float blur,
-                            const std::vector<std::string>& paths) {
+namespace {
+
+// A path's stem with as many parent folders as it takes to tell it from the others ("a-motion",
+// "b-motion"); "default" for the built-in scene (path "").
+std::string pathLabel(const std::string& path, const std::vector<std::string>& paths) {
     namespace fs = std::filesystem;
     const auto components = [](const std::string& p) {
         std::vector<std::string> parts;
@@ -91,7 +95,6 @@ std::string sweepSceneLabel(const std::string& path, float blur,
             if (!part.empty() && part != "." && part != "/") parts.push_back(part.string());
         return parts;
     };
-    // The last `k` components of a path (the built-in scene: "default").
     const auto tail = [&](const std::string& p, std::size_t k) {
         if (p.empty()) return std::string("default");
         const std::vector<std::string> parts = components(p);
@@ -100,25 +103,56 @@ std::string sweepSceneLabel(const std::string& path, float blur,
             label += (label.empty() ? "" : "-") + parts[i];
         return label;
     };
-    const auto same = [&](const std::string& other) {
-        return fs::path(other).lexically_normal() == fs::path(path).lexically_normal();
-    };
-    if (std::count_if(paths.begin(), paths.end(), same) > 1)
-        throw InputError("command line", "scenes", "names '" + path + "' twice");
+    // Folders cannot tell apart two files that differ only in their extension: numbered later.
     std::size_t k = 1;
     const auto collides = [&] {
         for (const std::string& other : paths)
-            if (!same(other) && tail(other, k) == tail(path, k)) return true;
+            if (components(other) != components(path) && tail(other, k) == tail(path, k))
+                return true;
         return false;
     };
     while (collides() && k < components(path).size()) ++k;
-    std::string label = tail(path, k);
-    if (blur != 1.0f) {
-        char suffix[32];
-        std::snprintf(suffix, sizeof suffix, "-blur%.9g", double(blur));
-        label += suffix;
-    }
+    return tail(path, k);
+}
+
+// Labels name files and CSV fields: anything but letters, digits, '.', '_' and '-' becomes '_'.
+std::string safeLabel(std::string label) {
+    for (char& c : label)
+        if (!std::isalnum(static_cast<unsigned char>(c)) && c != '.' && c != '_' && c != '-')
+            c = '_';
     return label;
+}
+
+}  // namespace
+
+std::vector<std::string> sweepSceneLabels(const std::vector<std::string>& paths,
+                                          const std::vector<float>& blurs) {
+    namespace fs = std::filesystem;
+    std::vector<std::string> normal;
+    for (const std::string& p : paths) {
+        const std::string n = p.empty() ? p : fs::path(p).lexically_normal().string();
+        if (std::find(normal.begin(), normal.end(), n) != normal.end())
+            throw InputError("command line", "scenes", "names '" + p + "' twice");
+        normal.push_back(n);
+    }
+    std::vector<std::string> labels;
+    for (const std::string& path : normal) {
+        const std::string base = safeLabel(pathLabel(path, normal));
+        for (float blur : blurs) {
+            char suffix[32] = "";
+            if (blur != 1.0f) std::snprintf(suffix, sizeof suffix, "-blur%.9g", double(blur));
+            labels.push_back(base + suffix);
+        }
+    }
+    // Still equal ("motion" at blur 2 and a scene named "motion-blur2", or two files that differ
+    // only in their extension): numbered in order, so every run has its own name.
+    std::set<std::string> taken;
+    for (std::string& label : labels) {
+        const std::string base = label;
+        for (int copy = 2; taken.count(label); ++copy) label = base + "-" + std::to_string(copy);
+        taken.insert(label);
+    }
+    return labels;
 }
 
 std::string sweepCsvHeader() {
@@ -182,9 +216,19 @@ std::vector<SweepRow> runSweep(const std::vector<SweepScene>& scenes, const Swee
         o.convergedSamplesPerPixel > 0 ? o.convergedSamplesPerPixel : 16 * maxSpp;
     checkEveryRun(scenes, o, convergedSpp);
     OutputSet outputs;
+    for (const auto& [path, field] : o.inputs) outputs.input(path, field);
     outputs.folder(dir, "-o");
     const std::string imagesDir = joinOutputPath(dir, "images");
     outputs.folder(imagesDir, "-o");
+    // Every run's image is reserved now, so a path that cannot be written fails before any run.
+    for (const SweepScene& s : scenes) {
+        outputs.file(joinOutputPath(imagesDir, s.label + "-converged.png"), "-o");
+        for (const VisibilityMethod* method : o.methods)
+            for (int spp : o.samplesPerPixel)
+                outputs.file(joinOutputPath(imagesDir, s.label + "-" + method->name() + "-" +
+                                                           std::to_string(spp) + ".png"),
+                             "-o");
+    }
     outputs.file(joinOutputPath(dir, "results.csv"), "-o");
     const PlotJob plots{"sweep", joinOutputPath(dir, "results.csv"), joinOutputPath(dir, "plots")};
     addPlotScript(outputs, plots, "-o");

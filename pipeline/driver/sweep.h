@@ -27,12 +27,13 @@ struct SweepScene {
 // The scene with its motion (object and camera keyframe differences) and its aperture scaled.
 SceneDesc scaleBlur(const SceneDesc& scene, float scale);
 
-// A scene's label in file names and CSV rows: its file stem ("default" for the built-in scene,
-// path ""), with as many parent folders as it takes to tell it from the other paths of the sweep
-// ("a-motion", "b-motion"), and "-blur<scale>" when the blur is scaled. Throws InputError when
-// `paths` names one file twice.
-std::string sweepSceneLabel(const std::string& path, float blur,
-                            const std::vector<std::string>& paths);
+// The labels of every scene at every blur (scene-major), as file names and CSV rows use them:
+// the file's stem ("default" for the built-in scene, path ""), with as many parent folders as it
+// takes to tell it from the other paths ("a-motion", "b-motion"), and "-blur<scale>" when the blur
+// is scaled; characters other than letters, digits, '.', '_' and '-' become '_'; labels still
+// equal get "-2", "-3" in order. Throws InputError when `paths` names one file twice.
+std::vector<std::string> sweepSceneLabels(const std::vector<std::string>& paths,
+                                          const std::vector<float>& blurs);
 
 struct SweepOptions {
     std::vector<const VisibilityMethod*> methods;
@@ -44,6 +45,8 @@ struct SweepOptions {
     SceneLimits limits;
     std::string outputDir;
     bool progress = true;
+    // The files the sweep reads, (path, option): no output may overwrite one.
+    std::vector<std::pair<std::string, std::string>> inputs;
 };
 
 struct SweepRow {
