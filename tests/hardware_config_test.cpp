@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <fstream>
 #include <nlohmann/json.hpp>
 
 #include "core/error.h"
@@ -87,6 +88,36 @@ TEST(HardwareConfig, SetPathRefusesWhatTheFileReaderRefuses) {
                       std::string::npos)
                 << e.what();
         }
+    }
+}
+
+}  // namespace
+}  // namespace patchsim
+
+namespace patchsim {
+namespace {
+
+// docs/HARDWARE.md's table of operations, held to the one list of them (core/stage_ops.h): every
+// operation on a row of its own stage.
+TEST(HardwareConfig, EveryOperationIsDocumentedWithItsStage) {
+    std::ifstream in(test::sourcePath("docs/HARDWARE.md"));
+    std::string line;
+    std::vector<std::string> rows;
+    while (std::getline(in, line))
+        if (line.rfind("| ", 0) == 0) rows.push_back(line);
+    for (int k = 0; k < kOpCount; ++k) {
+        const Op op = Op(k);
+        const std::string stage = std::string("| ") + stageName(stageOf(op)) + " | ";
+        const std::string key = std::string("`") + opName(op) + "`";
+        bool found = false;
+        for (const std::string& row : rows) {
+            if (row.rfind(stage, 0) != 0) continue;
+            const std::size_t end = row.find(" | ", stage.size());
+            found = found || row.substr(stage.size(), end - stage.size()).find(key) !=
+                                 std::string::npos;
+        }
+        EXPECT_TRUE(found) << opName(op) << " has no row of stage " << stageName(stageOf(op))
+                           << " in docs/HARDWARE.md";
     }
 }
 

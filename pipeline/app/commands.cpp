@@ -353,6 +353,22 @@ int runRender(const JobSettings& s, const MpiContext& mpi) {
     return 0;
 }
 
+namespace {
+
+// Every rank's rows, in the order of their jobs.
+std::vector<ExploreRow> rowsInJobOrder(const std::vector<std::string>& parts) {
+    std::vector<ExploreRow> rows;
+    for (const std::string& part : parts) {
+        const std::vector<ExploreRow> theirs = unpackExploreRows(part);
+        rows.insert(rows.end(), theirs.begin(), theirs.end());
+    }
+    std::stable_sort(rows.begin(), rows.end(),
+                     [](const ExploreRow& a, const ExploreRow& b) { return a.job < b.job; });
+    return rows;
+}
+
+}  // namespace
+
 int runExplore(const JobSettings& s, const MpiContext& mpi) {
     const SceneLimits limits = s.limits();
     std::vector<SceneDesc> scenes;
@@ -398,13 +414,7 @@ int runExplore(const JobSettings& s, const MpiContext& mpi) {
     }
     const std::vector<std::string> parts = mpi.gather(packExploreRows(mine));
     if (mpi.rank() != 0) return 0;
-    std::vector<ExploreRow> rows;
-    for (const std::string& part : parts) {
-        const std::vector<ExploreRow> theirs = unpackExploreRows(part);
-        rows.insert(rows.end(), theirs.begin(), theirs.end());
-    }
-    std::stable_sort(rows.begin(), rows.end(),
-                     [](const ExploreRow& a, const ExploreRow& b) { return a.job < b.job; });
+    const std::vector<ExploreRow> rows = rowsInJobOrder(parts);
     std::string csv = exploreCsvHeader(grid) + "\n";
     for (const ExploreRow& row : rows) csv += row.csv + "\n";
     outputs.writeText(s.output, "-o", [&](std::ostream& out) { out << csv; });

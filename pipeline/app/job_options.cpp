@@ -257,6 +257,8 @@ std::string checkPath(const JobOption& o, const std::string& text) {
     return {};
 }
 
+std::string applyList(const JobOption& o, const std::string& text, JobSettings& s);
+
 // Parses `text` into the row's field of `s`; returns an error message, empty when accepted.
 std::string apply(const JobOption& o, const std::string& text, JobSettings& s) {
     std::string error;
@@ -297,8 +299,13 @@ std::string apply(const JobOption& o, const std::string& text, JobSettings& s) {
                 s.*std::get<std::string S::*>(o.field) = text;
             return {};
         default:
-            break;
+            return applyList(o, text, s);
     }
+}
+
+// Parses a comma-separated list into the row's field of `s`; returns an error message.
+std::string applyList(const JobOption& o, const std::string& text, JobSettings& s) {
+    std::string error;
     std::vector<std::string> items;
     if (!(error = splitList(text, items)).empty()) return error;
     if (o.kind == K::NameList) {
@@ -412,6 +419,51 @@ std::string jobOptionValue(const JobOption& o, const JobSettings& s) {
         o.field);
 }
 
+namespace {
+
+// What a row takes, in words, for the docs.
+std::string valueDescription(const JobOption& o) {
+    std::string value;
+    switch (o.kind) {
+        case K::Flag:
+            value = "flag";
+            break;
+        case K::Integer:
+            value = "whole number in " + rangeText(o);
+            break;
+        case K::Real:
+            value = "number in " + rangeText(o);
+            break;
+        case K::Name:
+            value = "one of " + joined(o.choices);
+            break;
+        case K::InputPath:
+            value = "file to read";
+            break;
+        case K::OutputFile:
+            value = "file to write";
+            break;
+        case K::OutputFolder:
+            value = "folder to write into";
+            break;
+        case K::Text:
+            value = "text";
+            break;
+        case K::IntegerList:
+            value = "list of whole numbers in " + rangeText(o);
+            break;
+        case K::RealList:
+            value = "list of numbers in " + rangeText(o);
+            break;
+        case K::NameList:
+            value = "list of " + joined(o.choices);
+            break;
+    }
+    return o.odd ? value + ", odd" : value;
+}
+
+}  // namespace
+
 std::string jobOptionsMarkdown() {
     std::ostringstream out;
     out << "# Command-line options\n\n"
@@ -427,43 +479,7 @@ std::string jobOptionsMarkdown() {
             << "\n\n| option | value | default | stats.json | meaning |\n|---|---|---|---|---|\n";
         for (const JobOption& o : jobOptions()) {
             if (!o.takes(command)) continue;
-            std::string value;
-            switch (o.kind) {
-                case K::Flag:
-                    value = "flag";
-                    break;
-                case K::Integer:
-                    value = "whole number in " + rangeText(o);
-                    break;
-                case K::Real:
-                    value = "number in " + rangeText(o);
-                    break;
-                case K::Name:
-                    value = "one of " + joined(o.choices);
-                    break;
-                case K::InputPath:
-                    value = "file to read";
-                    break;
-                case K::OutputFile:
-                    value = "file to write";
-                    break;
-                case K::OutputFolder:
-                    value = "folder to write into";
-                    break;
-                case K::Text:
-                    value = "text";
-                    break;
-                case K::IntegerList:
-                    value = "list of whole numbers in " + rangeText(o);
-                    break;
-                case K::RealList:
-                    value = "list of numbers in " + rangeText(o);
-                    break;
-                case K::NameList:
-                    value = "list of " + joined(o.choices);
-                    break;
-            }
-            if (o.odd) value += ", odd";
+            const std::string value = valueDescription(o);
             const std::string def = o.kind == K::Flag ? "" : jobOptionValue(o, defaults);
             out << "| `" << o.flag << "` | " << value << " | "
                 << (def.empty() ? "" : "`" + def + "`") << " | "
