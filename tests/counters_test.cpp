@@ -90,6 +90,12 @@ TEST(Counters, EveryPipelineCounterIsDocumented) {
         if (name.starts_with("Test/")) continue;
         EXPECT_NE(text.str().find("`" + name + "`"), std::string::npos)
             << name << " is not in docs/COUNTERS.md";
+        // Its row, where the page has one, gives the unit the counter registers.
+        const std::string row = "| `" + name + "` | ";
+        const std::size_t at = text.str().find(row);
+        if (at == std::string::npos) continue;
+        const std::size_t unit = at + row.size();
+        EXPECT_EQ(text.str().substr(unit, text.str().find(" |", unit) - unit), info.unit) << name;
     }
     EXPECT_NE(text.str().find("`" + std::string(sampleTestEfficiency().name) + "`"),
               std::string::npos);
