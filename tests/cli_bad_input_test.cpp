@@ -92,6 +92,18 @@ TEST(CliBadInput, MalformedListsNameTheOption) {
     expectRefused(sweep + scene + " " + scene, "scenes: names '" + scene + "' twice");
 }
 
+// A cage at the coordinate cap scaled past the float range: refused by every command that
+// builds the scene, naming the object, instead of writing NaN vertices or dropping the geometry.
+TEST(CliBadInput, GeometryBeyondTheFloatRangeIsRefused) {
+    writeFile("far_quad.obj", "v 1e30 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nf 1 2 4 3\n");
+    const std::string scene =
+        writeFile("far_quad.json",
+                  R"({"objects": [{"cage": "far_quad.obj", "open": {"scale": [1e30, 1, 1]}}]})");
+    const std::string message = scene + ": objects[0]: vertex 1 of";
+    expectRefused("tessellate " + scene + " -o hu.obj", message);
+    expectRefused("render " + scene + " -q --no-progress -o out", message);
+}
+
 // CLI11's own errors (an unknown option, a missing required one, an extra argument) are one
 // line in the project's format too.
 TEST(CliBadInput, ParserErrorsAreOneLine) {
