@@ -102,6 +102,9 @@ TEST(Explore, GridErrorsNameTheField) {
                   .find("hardware.RS.units[0]: expected an integer"),
               std::string::npos);
     EXPECT_NE(errorOf(R"({"film": {"spp": 0}})").find("film.spp"), std::string::npos);
+    EXPECT_NE(errorOf(R"({"hardware": {"clock_ghz": [1, 1e999]}})")
+                  .find("grid.json: line 1, column 32: JSON number overflow parsing '1e999'"),
+              std::string::npos);
 }
 
 // Grid values follow the scene and hardware readers' rules: whole numbers where those want whole
