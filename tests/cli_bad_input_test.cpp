@@ -90,6 +90,14 @@ TEST(CliBadInput, MalformedListsNameTheOption) {
     expectRefused(sweep + "--blur 2,2.0", "--blur: the list '2,2.0' repeats");
     const std::string scene = sourcePath("scenes/static.json");
     expectRefused(sweep + scene + " " + scene, "scenes: names '" + scene + "' twice");
+    const std::string grid = writeFile("repeats.json", R"({"rasterizer": {"tile_size": [8, 8]},
+        "film": {"width": 8, "height": 8, "spp": 1}})");
+    expectRefused("explore --no-progress " + scene + " --grid " + grid + " -o x.csv",
+                  "rasterizer.tile_size[1]: the value 8 repeats rasterizer.tile_size[0]");
+    const std::string once = writeFile("once.json", R"({"rasterizer": {"tile_size": [8]},
+        "film": {"width": 8, "height": 8, "spp": 1}})");
+    expectRefused("explore --no-progress " + scene + " " + scene + " --grid " + once + " -o x.csv",
+                  "command line: scenes: names '" + scene + "' twice");
 }
 
 // A cage at the coordinate cap scaled past the float range: refused by every command that
