@@ -1,5 +1,8 @@
 #include "core/json_fields.h"
 
+#include <cmath>
+#include <cstdlib>
+
 namespace patchsim {
 
 namespace {
@@ -16,6 +19,36 @@ std::string lineColumn(std::string_view text, std::size_t byte) {
         }
     }
     return "line " + std::to_string(line) + ", column " + std::to_string(column);
+}
+
+// Where the first number of `text` beyond double range begins, skipping strings; npos if none.
+// nlohmann's out_of_range error 406 carries no position, but it is thrown at the first such
+// number in the text (the parser reads in order, and a syntax error before it would have been
+// reported instead), so the first one found here is the one it refused.
+std::size_t firstOverflowingNumber(std::string_view text) {
+    std::size_t i = 0;
+    while (i < text.size()) {
+        const char ch = text[i];
+        if (ch == '"') {  // a string: skip to its closing quote, past escaped characters
+            for (++i; i < text.size() && text[i] != '"'; ++i)
+                if (text[i] == '\\') ++i;
+            ++i;
+        } else if (ch == '-' || (ch >= '0' && ch <= '9')) {
+            const std::size_t start = i;
+            while (i < text.size() &&
+                   (text[i] == '-' || text[i] == '+' || text[i] == '.' || text[i] == 'e' ||
+                    text[i] == 'E' || (text[i] >= '0' && text[i] <= '9')))
+                ++i;
+            // strtod is what nlohmann's lexer reads numbers with (the program keeps the "C"
+            // locale), so it overflows on exactly the literals nlohmann refuses; an underflow
+            // gives a finite 0 there and here.
+            const std::string literal(text.substr(start, i - start));
+            if (!std::isfinite(std::strtod(literal.c_str(), nullptr))) return start;
+        } else {
+            ++i;
+        }
+    }
+    return std::string_view::npos;
 }
 
 }  // namespace
@@ -87,11 +120,14 @@ Json parseJson(std::string_view text, const std::string& path) {
             message = message.substr(pos);
         throw InputError(path, lineColumn(text, byte), "JSON " + message);
     } catch (const Json::exception& e) {
-        // Numbers beyond double range ("number overflow parsing '1e999'").
+        // Numbers beyond double range ("number overflow parsing '1e999'"), at the line and column
+        // of the number (docs/SCENES.md: every error names a field or a position).
         std::string message = e.what();
         if (auto pos = message.find(']'); pos != std::string::npos)
             message = message.substr(pos + 2);
-        throw InputError(path, "", "JSON " + message);
+        const std::size_t number = firstOverflowingNumber(text);
+        throw InputError(path, number == std::string_view::npos ? "" : lineColumn(text, number),
+                         "JSON " + message);
     }
 }
 

@@ -17,6 +17,11 @@ namespace {
 // three counts add up without overflow.
 constexpr int kMaxTagValues = 1 << 24;
 
+// The scene reader's cap on every number (scene_reader.cpp, kHuge): a cage coordinate near the
+// float limit (3e38) overflows to infinity once its object is scaled, and the limit points it
+// touches become NaN, so it is refused here with its line and column.
+constexpr float kMaxCoordinate = 1e30f;
+
 struct Token {
     std::string_view text;
     int column;  // 1-based
@@ -69,6 +74,13 @@ class ObjParser {
         return v;
     }
 
+    float coordinate(const Token& t) const {
+        const float v = number(t);
+        if (std::abs(v) > kMaxCoordinate)
+            fail(t.column, "coordinate " + std::string(t.text) + " is outside [-1e+30, 1e+30]");
+        return v;
+    }
+
     long integer(std::string_view text, int column) const {
         long v = 0;
         auto [ptr, ec] = std::from_chars(text.data(), text.data() + text.size(), v);
@@ -84,7 +96,8 @@ class ObjParser {
         const std::string_view kind = tokens[0].text;
         if (kind == "v") {
             if (tokens.size() < 4) fail(tokens[0].column, "vertex needs 3 coordinates");
-            cage_.positions.push_back({number(tokens[1]), number(tokens[2]), number(tokens[3])});
+            cage_.positions.push_back(
+                {coordinate(tokens[1]), coordinate(tokens[2]), coordinate(tokens[3])});
         } else if (kind == "f") {
             parseFace(tokens);
         } else if (kind == "t") {

@@ -51,6 +51,27 @@ Vec3 safeNormal(const Vec3& du, const Vec3& dv) {
 
 namespace {
 
+// Every control point of object i, placed by its transforms at both shutter ends, must be a
+// float: the cage's and the scene's numbers are each capped at 1e30, but a product of two
+// (a coordinate times a scale) can overflow, and an infinite control point makes every limit
+// point it touches NaN, which the rasterizers would then silently drop.
+void checkFinite(const ControlPoints& points, const SceneDesc& scene, std::size_t i) {
+    static constexpr const char* kEnd[2] = {"open", "close"};
+    for (int end = 0; end < 2; ++end) {
+        const std::vector<Vec3>& at = points.at[end];
+        for (std::size_t v = 0; v < at.size(); ++v) {
+            if (std::isfinite(at[v].x) && std::isfinite(at[v].y) && std::isfinite(at[v].z))
+                continue;
+            throw InputError(scene.path, "objects[" + std::to_string(i) + "]",
+                             "vertex " + std::to_string(v + 1) + " of '" +
+                                 scene.objects[i].cagePath + "' is not finite at shutter " +
+                                 kEnd[end] +
+                                 " once placed by the object's transforms (beyond the float "
+                                 "range: reduce the cage's coordinates or the object's scale)");
+        }
+    }
+}
+
 // Object i of the scene without its limit surface: its cage (and shutter-close cage) and vertex
 // stage.
 SceneObject readObject(const SceneDesc& scene, std::size_t i) {
@@ -70,6 +91,7 @@ SceneObject readObject(const SceneDesc& scene, std::size_t i) {
                                  desc.cagePath + "'");
     }
     object.points = runVertexStage(desc, object.cage, closeCage.get(), scene.shutter);
+    checkFinite(object.points, scene, i);
     return object;
 }
 

@@ -1,6 +1,7 @@
 #include "tessellator/vertex_stage.h"
 
 #include <algorithm>
+#include <cmath>
 #include <limits>
 
 #include "core/counters.h"
@@ -15,15 +16,20 @@ namespace {
 // Keyframe positions that differ from the open ones by rounding only (relative to the cage's size).
 constexpr float kReturnTolerance = 1e-5f;
 
+// In double: the float length of a cage wider than about 1e19 overflows, and an infinite
+// tolerance would take any motion for none. A keyframe beyond the float range is never back where
+// it started: it is kept, for the front end to refuse (front_end.cpp), not hidden.
 bool returnsToStart(const std::vector<Vec3>& key0, const std::vector<Vec3>& key1) {
-    Vec3 lo(std::numeric_limits<float>::max()), hi(-std::numeric_limits<float>::max());
-    float moved = 0;
+    glm::dvec3 lo(std::numeric_limits<double>::max()), hi(-std::numeric_limits<double>::max());
+    double moved = 0;
     for (std::size_t i = 0; i < key0.size(); ++i) {
-        lo = glm::min(lo, key0[i]);
-        hi = glm::max(hi, key0[i]);
-        moved = std::max(moved, glm::length(key1[i] - key0[i]));
+        const glm::dvec3 a(key0[i]), b(key1[i]);
+        if (!std::isfinite(b.x) || !std::isfinite(b.y) || !std::isfinite(b.z)) return false;
+        lo = glm::min(lo, a);
+        hi = glm::max(hi, a);
+        moved = std::max(moved, glm::length(b - a));
     }
-    return moved > 0 && moved <= kReturnTolerance * glm::length(hi - lo);
+    return moved > 0 && moved <= double(kReturnTolerance) * glm::length(hi - lo);
 }
 
 }  // namespace

@@ -93,5 +93,52 @@ TEST(BoundingRasterizer, TighterBoundsTestFewerSamplesAndThePatchMethodGainsWith
     EXPECT_GT(previousRatio, 10.0) << "at four times the motion";
 }
 
+// A triangle nearer than the near plane at both shutter ends is so at every time (linear motion,
+// a convex half-space): culled after one setup, no sample tested, where its bounds used to be the
+// whole screen. One that comes out in front during the shutter is kept, and the image is still
+// the patch method's sample for sample.
+TEST(BoundingRasterizer, TrianglesBehindTheCameraAtBothEndsAreCulledWithoutATest) {
+    SceneDesc scene = small("scenes/motion.json");  // the camera at z = 6, looking down -z
+    scene.tessellation.targetEdgePixels = 0;
+    scene.tessellation.factor = 4;
+    SceneDesc behind = scene;
+    for (ObjectDesc& o : behind.objects) {
+        o.open.translate.z += 20;
+        o.close.translate.z += 20;
+    }
+    SceneDesc crossing = behind;  // the torus comes from behind the camera to its place
+    crossing.objects[0].close.translate = scene.objects[0].close.translate;
+    SceneDesc crossingInterleaved = crossing;
+    crossingInterleaved.film.sampler = SamplePattern::Interleaved;
+    const RenderResult patch = renderWith(crossing, &methodNamed("patch"));
+    const RenderResult patchInterleaved = renderWith(crossingInterleaved, &methodNamed("patch"));
+    for (const auto& [name, prefix] :
+         {std::pair{"triangle-bbox", "BB/"}, std::pair{"interval", "IV/"},
+          std::pair{"interleaved", "IL/"}}) {
+        const VisibilityMethod* method = &methodNamed(name);
+        const std::string p = prefix;
+        CounterRegistry::instance().reset();
+        renderWith(behind, method);
+        CounterValues c = CounterRegistry::instance().snapshot();
+        EXPECT_EQ(c.byName(p + "Samples tested"), 0) << name;
+        EXPECT_EQ(c.byName(p + "Full-screen bounds"), 0) << name;
+        EXPECT_GT(c.byName(p + "Triangle setups"), 0) << name;
+        EXPECT_EQ(c.byName(p + "Triangles culled behind the camera"),
+                  c.byName(p + "Triangle setups"))
+            << name << ": one setup per culled triangle";
+
+        CounterRegistry::instance().reset();
+        const RenderResult result = renderWith(crossing, method);
+        c = CounterRegistry::instance().snapshot();
+        const std::int64_t culled = c.byName(p + "Triangles culled behind the camera");
+        EXPECT_GT(culled, 0) << name << ": the icosahedron";
+        EXPECT_GT(c.byName(p + "Samples tested"), 0) << name << ": the torus";
+        const test::Comparison cmp =
+            test::compare(method == &methodNamed("interleaved") ? patchInterleaved : patch, result);
+        EXPECT_GT(cmp.hits, 0u) << name;
+        EXPECT_EQ(cmp.mismatches, 0u) << name;
+    }
+}
+
 }  // namespace
 }  // namespace patchsim

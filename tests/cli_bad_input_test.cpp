@@ -92,6 +92,26 @@ TEST(CliBadInput, MalformedListsNameTheOption) {
     expectRefused(sweep + "--blur 2,2.0", "--blur: the list '2,2.0' repeats");
     const std::string scene = sourcePath("scenes/static.json");
     expectRefused(sweep + scene + " " + scene, "scenes: names '" + scene + "' twice");
+    const std::string grid = writeFile("repeats.json", R"({"rasterizer": {"tile_size": [8, 8]},
+        "film": {"width": 8, "height": 8, "spp": 1}})");
+    expectRefused("explore --no-progress " + scene + " --grid " + grid + " -o x.csv",
+                  "rasterizer.tile_size[1]: the value 8 repeats rasterizer.tile_size[0]");
+    const std::string once = writeFile("once.json", R"({"rasterizer": {"tile_size": [8]},
+        "film": {"width": 8, "height": 8, "spp": 1}})");
+    expectRefused("explore --no-progress " + scene + " " + scene + " --grid " + once + " -o x.csv",
+                  "command line: scenes: names '" + scene + "' twice");
+}
+
+// A cage at the coordinate cap scaled past the float range: refused by every command that
+// builds the scene, naming the object, instead of writing NaN vertices or dropping the geometry.
+TEST(CliBadInput, GeometryBeyondTheFloatRangeIsRefused) {
+    writeFile("far_quad.obj", "v 1e30 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nf 1 2 4 3\n");
+    const std::string scene =
+        writeFile("far_quad.json",
+                  R"({"objects": [{"cage": "far_quad.obj", "open": {"scale": [1e30, 1, 1]}}]})");
+    const std::string message = scene + ": objects[0]: vertex 1 of";
+    expectRefused("tessellate " + scene + " -o hu.obj", message);
+    expectRefused("render " + scene + " -q --no-progress -o out", message);
 }
 
 // CLI11's own errors (an unknown option, a missing required one, an extra argument) are one

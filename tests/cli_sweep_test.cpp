@@ -4,12 +4,14 @@
 
 #include <gtest/gtest.h>
 #include <signal.h>
+#include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
 #include <chrono>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <sstream>
 #include <thread>
 
@@ -160,6 +162,72 @@ TEST(CliSweep, RunLabelsNeverCollide) {
                                                 "motion-blur2-blur2", "x_y", "x_y-blur2",
                                                 "motion-2", "motion-blur2-3"}));
     EXPECT_EQ(listTree(dir + "/images").size(), 2 * labels.size());
+}
+
+// `patchsim ARGUMENTS`, killed after two minutes (exit code 124) so a hang fails the test.
+CommandResult runWithin(const std::string& arguments) {
+    CommandResult result{-1, {}};
+    FILE* pipe = popen(
+        ("timeout 120 " + std::string(PATCHSIM_BINARY) + " " + arguments + " 2>&1").c_str(), "r");
+    if (!pipe) return result;
+    char buffer[4096];
+    for (std::size_t n; (n = fread(buffer, 1, sizeof buffer, pipe)) > 0;)
+        result.output.append(buffer, n);
+    const int status = pclose(pipe);
+    result.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    return result;
+}
+
+// A cache entry that is not a regular file (a FIFO, a link to /dev/zero) is never read: reading
+// it would wait or run forever. It is rendered again, and the cache's errors name the sweep's
+// -o.
+TEST(CliSweep, ConvergedCacheEntriesThatAreNotFilesAreRenderedAgain) {
+    const std::string scene = smallScene("special.json");
+    const std::string dir = freshFolder("special");
+    const std::string args = "sweep " + scene +
+                             " --methods interval --spp 1 --repeats 1 "
+                             "--no-progress --converged-spp 16 -o " +
+                             dir;
+    ASSERT_EQ(run(args).exitCode, 0);
+    const std::string rmse = csvColumn(readFile(dir + "/results.csv"), 10).at(0);
+    std::string base;
+    for (const auto& entry : fs::directory_iterator(dir + "/converged"))
+        if (entry.path().extension() == ".exr")
+            base = fs::path(entry.path()).replace_extension().string();
+    ASSERT_FALSE(base.empty());
+    const auto fifo = [](const std::string& path) {
+        fs::remove(path);
+        ASSERT_EQ(mkfifo(path.c_str(), 0600), 0) << path;
+    };
+    const auto toZero = [](const std::string& path) {
+        fs::remove(path);
+        fs::create_symlink("/dev/zero", path);
+    };
+    for (const auto& [make, extension] :
+         std::vector<std::pair<std::function<void(const std::string&)>, std::string>>{
+             {fifo, ".exr"}, {toZero, ".exr"}, {fifo, ".key"}, {toZero, ".key"}}) {
+        make(base + extension);
+        const CommandResult r = runWithin(args);
+        ASSERT_EQ(r.exitCode, 0) << extension << "\n" << r.output;
+        EXPECT_NE(r.output.find("rendered into"), std::string::npos) << r.output;
+        EXPECT_NE(r.output.find("the cached '" + base + extension + "' is not a regular file"),
+                  std::string::npos)
+            << r.output;
+        EXPECT_TRUE(fs::is_regular_file(fs::symlink_status(base + extension))) << extension;
+        EXPECT_EQ(csvColumn(readFile(dir + "/results.csv"), 10).at(0), rmse);
+    }
+    // The cache folder is made in -o: a file in its place is refused under that option.
+    const std::string blocked = freshFolder("special-blocked");
+    fs::create_directories(blocked);
+    std::ofstream(blocked + "/converged") << "not a folder";
+    const CommandResult r = run("sweep " + scene +
+                                " --methods interval --spp 1 --repeats 1 --no-progress "
+                                "--converged-spp 16 -o " +
+                                blocked);
+    EXPECT_EQ(r.exitCode, 2) << r.output;
+    EXPECT_NE(r.output.find(blocked + "/converged: -o: is a file, not a folder for the outputs"),
+              std::string::npos)
+        << r.output;
 }
 
 // The scene's own film.spp is not what a sweep renders; every --spp is checked before any run.

@@ -102,6 +102,9 @@ TEST(Explore, GridErrorsNameTheField) {
                   .find("hardware.RS.units[0]: expected an integer"),
               std::string::npos);
     EXPECT_NE(errorOf(R"({"film": {"spp": 0}})").find("film.spp"), std::string::npos);
+    EXPECT_NE(errorOf(R"({"hardware": {"clock_ghz": [1, 1e999]}})")
+                  .find("grid.json: line 1, column 32: JSON number overflow parsing '1e999'"),
+              std::string::npos);
 }
 
 // Grid values follow the scene and hardware readers' rules: whole numbers where those want whole
@@ -120,6 +123,45 @@ TEST(Explore, GridValuesAreCheckedLikeTheSceneAndHardwareFiles) {
              {R"({"rasterizer": {"tile_size": [4, 4]}, "rasterizer": {}})", "rasterizer"}}) {
         EXPECT_NE(errorOf(grid).find("grid.json: " + field), std::string::npos)
             << grid << " -> " << errorOf(grid);
+    }
+}
+
+// A value given twice on an axis, or a scene given twice, would make every one of its points
+// twice (duplicate CSV rows); both are refused, by field and by argument, as sweep refuses them.
+TEST(Explore, RepeatedGridValuesAndScenesAreRefused) {
+    for (const auto& [grid, message] : std::vector<std::pair<std::string, std::string>>{
+             {R"({"rasterizer": {"tile_size": [8, 16, 8]}})",
+              "grid.json: rasterizer.tile_size[2]: the value 8 repeats rasterizer.tile_size[0]"},
+             {R"({"rasterizer": {"z_culling": [true, false, true]}})",
+              "grid.json: rasterizer.z_culling[2]: the value true repeats"},
+             {R"({"hardware": {"clock_ghz": [1, 1.0]}})",
+              "grid.json: hardware.clock_ghz[1]: the value 1 repeats hardware.clock_ghz[0]"},
+             {R"({"hardware": {"RS.units": [2, 4, 2]}})",
+              "grid.json: hardware.RS.units[2]: the value 2 repeats hardware.RS.units[0]"}}) {
+        EXPECT_NE(errorOf(grid).find(message), std::string::npos)
+            << grid << " -> " << errorOf(grid);
+    }
+    const ExploreGrid grid =
+        parseExploreGrid(R"({"rasterizer": {"tile_size": [8, 16]}})", "g.json");
+    const std::string path = test::sourcePath("scenes/motion.json");
+    const SceneDesc scene = readSceneFile(path);
+    SceneDesc spelledOtherwise = scene;
+    spelledOtherwise.path = test::sourcePath("scenes/../scenes/./motion.json");
+    for (const auto& [second, message] : std::vector<std::pair<SceneDesc, std::string>>{
+             {scene, "command line: scenes: names '" + path + "' twice"},
+             {spelledOtherwise, "command line: scenes: '" + path + "' and '" +
+                                    spelledOtherwise.path + "' are the same file"}}) {
+        int rendered = 0;
+        try {
+            runExploreJobs(
+                {scene, second}, grid, defaultHardwareConfig(), 1, SceneLimits{},
+                [](std::size_t) { return false; },
+                [&](std::size_t, const std::vector<ExploreRow>&) { ++rendered; });
+            ADD_FAILURE() << "no error for " << second.path;
+        } catch (const InputError& e) {
+            EXPECT_NE(std::string(e.what()).find(message), std::string::npos) << e.what();
+        }
+        EXPECT_EQ(rendered, 0);
     }
 }
 

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
+#include <fstream>
 #include <functional>
 #include <limits>
 #include <map>
@@ -358,6 +359,38 @@ TEST(FrontEnd, MissingCageNamesTheSceneField) {
                   std::string::npos)
             << e.what();
     }
+}
+
+// Each number is within the readers' cap of 1e30, but a cage coordinate of 1e30 scaled by 1e30 is
+// infinite: the object is refused by name instead of tessellating into NaN vertices.
+TEST(FrontEnd, ControlPointsBeyondTheFloatRangeNameTheObject) {
+    const std::string cage = test::temporaryDirectory() + "/far_quad.obj";
+    std::ofstream(cage) << "v 1e30 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nf 1 2 4 3\n";
+    SceneDesc scene = sceneWithCage(cage, Partitioning::Integer, 4);
+    scene.path = "scene.json";
+    const ObjectDesc good = scene.objects[0];
+    scene.objects.insert(scene.objects.begin(), good);
+    scene.objects[1].close.scale = Vec3(1e30f);  // finite at shutter open, infinite at close
+    try {
+        FrontEnd fe(scene);
+        FAIL() << "no error";
+    } catch (const InputError& e) {
+        EXPECT_EQ(e.field(), "objects[1]");
+        EXPECT_NE(std::string(e.what()).find("scene.json: objects[1]: vertex 1 of '" + cage +
+                                             "' is not finite at shutter close"),
+                  std::string::npos)
+            << e.what();
+    }
+    // 1e38: still a float, and a motion (the cage's float length overflowed, and its tolerance
+    // for "back where it started" with it).
+    scene.objects[1].close.scale = Vec3(1e8f);
+    const FrontEnd fe(scene);
+    EXPECT_TRUE(fe.objects()[1].points.moves());
+    EXPECT_FALSE(fe.objects()[1].points.keyframesReturnToStart);
+    for (const TessellatedPatch& p : tessellateAll(fe))
+        for (int end = 0; end < 2; ++end)
+            for (const Vec3& v : p.position[end])
+                ASSERT_TRUE(std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z));
 }
 
 // Objects are built on several threads; the scene's objects come out in their order, each the

@@ -47,6 +47,9 @@ TEST(HardwareConfig, ErrorsNameTheField) {
               std::string::npos);
     EXPECT_NE(errorOf("{\"stages\": {,}}").find("hw.json: line 1, column 13: JSON syntax error"),
               std::string::npos);
+    EXPECT_NE(errorOf("{\n\"clock_ghz\": 2e400, \"stages\": {}}")
+                  .find("hw.json: line 2, column 14: JSON number overflow parsing '2e400'"),
+              std::string::npos);
     EXPECT_THROW(readHardwareConfig("/nonexistent/hw.json"), InputError);
 }
 

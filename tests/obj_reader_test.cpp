@@ -86,6 +86,21 @@ TEST(ObjReader, ErrorsNameFileLineAndColumn) {
         std::string::npos);
 }
 
+// Coordinates are capped like every scene number (1e30): 3e38 is a float, but scaled by 2 it is
+// infinite and the tessellation it touches NaN.
+TEST(ObjReader, CoordinatesBeyondTheScenesNumberCapAreRefused) {
+    const std::string face = "v 1 0 0\nv 0 1 0\nv 1 1 0\nf 1 2 4 3\n";
+    EXPECT_NE(errorOf("v 3e38 0 0\n" + face)
+                  .find("cage.obj: line 1, column 3: coordinate 3e38 is outside [-1e+30, 1e+30]"),
+              std::string::npos);
+    EXPECT_NE(errorOf("v 0 0 0\nv 0 -1.5e30 0\nv 0 1 0\nf 1 2 3\n")
+                  .find("cage.obj: line 2, column 5: coordinate -1.5e30 is outside"),
+              std::string::npos);
+    const Cage atTheCap = parseObjCage("v 1e30 0 0\nv 0 -1e30 0\nv 0 1 0\nf 1 2 3\n", "cage.obj");
+    EXPECT_EQ(atTheCap.positions[0].x, 1e30f);
+    EXPECT_EQ(atTheCap.positions[1].y, -1e30f);
+}
+
 TEST(ObjReader, TagCountsAndValuesOutOfRangeAreErrorsNotOverflow) {
     const std::string triangle = "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
     // Found by fuzzing: two counts near INT_MAX summed in int (undefined behaviour).

@@ -139,6 +139,20 @@ TEST(SceneReader, SyntaxErrorsGiveLineAndColumn) {
     EXPECT_NE(e.find("scene.json: line 3, column 22: JSON syntax error"), std::string::npos) << e;
 }
 
+// A number beyond double range is refused by nlohmann without a position: it is found in the
+// text (the first such number outside a string) and named by line and column, like a syntax error.
+TEST(SceneReader, NumberOverflowGivesLineAndColumn) {
+    const std::string e = errorOf(
+        "{\"objects\": [{\"cage\": \"1e999.obj\", \"name\": \"a \\\" -1e999\", \"open\":\n"
+        "  {\"scale\": [1e300, 2, -1E+999]}}]}");
+    EXPECT_NE(e.find("scene.json: line 2, column 24: JSON number overflow parsing '-1E+999'"),
+              std::string::npos)
+        << e;
+    EXPECT_NE(errorOf("{\"film\": {\"seed\": 1" + std::string(400, '0') + "}}")
+                  .find("scene.json: line 1, column 19: JSON number overflow"),
+              std::string::npos);
+}
+
 TEST(SceneReader, FieldErrorsNameTheField) {
     EXPECT_NE(errorOf(R"({"objects": [{"cage": "a.obj", "colour": 1}]})")
                   .find("objects[0].colour: unknown key"),
@@ -156,7 +170,7 @@ TEST(SceneReader, FieldErrorsNameTheField) {
                   .find("lens.aperture_radius"),
               std::string::npos);
     EXPECT_NE(errorOf(R"({"lens": {"focus_distance": 1e999}, "objects": [{"cage": "a.obj"}]})")
-                  .find("scene.json: JSON number overflow parsing '1e999'"),
+                  .find("scene.json: line 1, column 29: JSON number overflow parsing '1e999'"),
               std::string::npos);
     EXPECT_NE(errorOf(R"({"camera": {"position": [0, 0]}, "objects": [{"cage": "a.obj"}]})")
                   .find("camera.position: expected an array of 3 numbers"),

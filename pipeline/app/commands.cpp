@@ -370,6 +370,7 @@ std::vector<ExploreRow> rowsInJobOrder(const std::vector<std::string>& parts) {
 }  // namespace
 
 int runExplore(const JobSettings& s, const MpiContext& mpi) {
+    checkDistinctScenes(s.scenes);
     const SceneLimits limits = s.limits();
     std::vector<SceneDesc> scenes;
     ExploreGrid grid;

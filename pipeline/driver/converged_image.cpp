@@ -131,20 +131,24 @@ ConvergedImage renderConverged(const SceneDesc& scene, int spp, const RenderOpti
     return result;
 }
 
+// The option errors about the cache name: the cache is the folder "converged" in the sweep's
+// output folder, so the option that chose it is the sweep's -o.
+constexpr const char* kCacheField = "-o";
+
 void storeConverged(const ConvergedImage& image, const std::string& base, const std::string& key,
                     const std::string& cacheDir) {
     OutputSet outputs;
-    outputs.folder(cacheDir, "--converged-cache");
+    outputs.folder(cacheDir, kCacheField);
     const std::size_t pixels = image.coverage.size();
     std::vector<float> channels(pixels * 4);
     for (std::size_t p = 0; p < pixels; ++p) {
         for (std::size_t k = 0; k < 3; ++k) channels[4 * p + k] = image.color.rgb[3 * p + k];
         channels[4 * p + 3] = image.coverage[p];
     }
-    writeFloatChannels(outputs.file(image.path, "--converged-cache"), image.color.width,
-                       image.color.height, {"R", "G", "B", "coverage"}, channels);
-    writePng(image.color, outputs.file(base + ".png", "--converged-cache"));
-    outputs.writeText(base + ".key", "--converged-cache",
+    writeFloatChannels(outputs.file(image.path, kCacheField), image.color.width, image.color.height,
+                       {"R", "G", "B", "coverage"}, channels);
+    writePng(image.color, outputs.file(base + ".png", kCacheField));
+    outputs.writeText(base + ".key", kCacheField,
                       [&](std::ostream& out) { out << key << pixelLine(pixelHash(image)); });
     outputs.commit();
 }
@@ -155,6 +159,15 @@ bool readCached(const std::string& base, const std::string& key, const FilmDesc&
     namespace fs = std::filesystem;
     std::error_code ec;
     if (!fs::exists(base + ".key", ec) || !fs::exists(result.path, ec)) return false;
+    // Only regular files are read (through links): opening a FIFO waits for a writer that never
+    // comes, and a device such as /dev/zero never ends, so either would hang the sweep. Whatever
+    // else is there is replaced by a fresh render (OutputSet renames over the entry itself).
+    for (const std::string& path : {base + ".key", result.path}) {
+        if (!fs::is_regular_file(path, ec)) {
+            result.note = "the cached '" + path + "' is not a regular file";
+            return false;
+        }
+    }
     const std::string recorded = readTextFile(base + ".key");
     if (recorded.compare(0, key.size(), key) != 0) return false;  // another image's key
     try {

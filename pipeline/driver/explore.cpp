@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cstdio>
 #include <cstdlib>
+#include <filesystem>
 #include <sstream>
 
 #include "core/counters.h"
@@ -13,6 +14,8 @@
 #include "rasterizer/patent/raster_work.h"
 
 namespace patchsim {
+
+namespace fs = std::filesystem;
 
 namespace {
 
@@ -70,18 +73,34 @@ ExploreGrid parseExploreGrid(std::string_view text, const std::string& path) {
         }
         return axis;
     };
+    // A value given twice (8 and 8, 1 and 1.0) would make every point of it twice: duplicate
+    // rows, as sweep refuses for its lists. `same(i, j)` compares the values as their reader
+    // takes them.
+    auto refuseRepeats = [&](const ObjectReader& section, const GridAxis& axis, auto same) {
+        for (std::size_t i = 0; i < axis.json.size(); ++i)
+            for (std::size_t j = 0; j < i; ++j)
+                if (same(i, j))
+                    section.fail(section.fieldName(axis.name) + "[" + std::to_string(i) + "]",
+                                 "the value " + axis.values[i] + " repeats " +
+                                     section.fieldName(axis.name) + "[" + std::to_string(j) +
+                                     "]: every point would come out twice");
+    };
     if (const Json* raster = root.find("rasterizer")) {
         ObjectReader section(*raster, "rasterizer", path);
         for (const RasterizerOptionField& option : rasterizerOptionFields()) {  // table order
             if (!raster->contains(option.key)) continue;
             GridAxis axis = readAxis(section, option.key, false);
+            std::vector<std::string> taken;  // each value as the option holds it
             for (std::size_t i = 0; i < axis.json.size(); ++i) {
                 RasterizerOptions probe;
                 const std::string error = option.set(probe, axis.json[i]);
                 if (!error.empty())
                     section.fail(section.fieldName(option.key) + "[" + std::to_string(i) + "]",
                                  error);
+                taken.push_back(option.get(probe));
             }
+            refuseRepeats(section, axis,
+                          [&](std::size_t i, std::size_t j) { return taken[i] == taken[j]; });
             grid.rasterAxes.push_back(std::move(axis));
         }
         section.finish();
@@ -94,6 +113,10 @@ ExploreGrid parseExploreGrid(std::string_view text, const std::string& path) {
             for (std::size_t i = 0; i < axis.json.size(); ++i)
                 setHardwareParameter(probe, it.key(), axis.json[i], path,
                                      section.fieldName(it.key()) + "[" + std::to_string(i) + "]");
+            // Hardware values are numbers, and nlohmann compares 1 and 1.0 as numbers.
+            refuseRepeats(section, axis, [&](std::size_t i, std::size_t j) {
+                return axis.json[i] == axis.json[j];
+            });
             grid.hardwareAxes.push_back(std::move(axis));
         }
     }
@@ -226,10 +249,36 @@ std::vector<ExploreRow> unpackExploreRows(const std::string& text) {
     return rows;
 }
 
+void checkDistinctScenes(const std::vector<std::string>& paths) {
+    // One file spelt two ways ("m.json", "./m.json", its absolute path, a link to it) is the
+    // same scene: compared by normalised absolute path, and by identity where both exist.
+    const auto normal = [](const std::string& p) {
+        std::error_code error;
+        const fs::path absolute = fs::absolute(p, error);
+        return (error ? fs::path(p) : absolute).lexically_normal();
+    };
+    const auto sameFile = [&](const std::string& a, const std::string& b) {
+        if (normal(a) == normal(b)) return true;
+        std::error_code error;  // false when either is not a file (the built-in scene)
+        return fs::equivalent(a, b, error);
+    };
+    for (std::size_t i = 0; i < paths.size(); ++i)
+        for (std::size_t j = 0; j < i; ++j) {
+            if (!sameFile(paths[j], paths[i])) continue;
+            throw InputError("command line", "scenes",
+                             paths[i] == paths[j]
+                                 ? "names '" + paths[i] + "' twice"
+                                 : "'" + paths[j] + "' and '" + paths[i] + "' are the same file");
+        }
+}
+
 void runExploreJobs(const std::vector<SceneDesc>& scenes, const ExploreGrid& grid,
                     const HardwareConfig& baseHardware, int threads, const SceneLimits& limits,
                     const std::function<bool(std::size_t)>& mine,
                     const std::function<void(std::size_t, const std::vector<ExploreRow>&)>& emit) {
+    std::vector<std::string> paths;
+    for (const SceneDesc& scene : scenes) paths.push_back(scene.path);
+    checkDistinctScenes(paths);
     const std::vector<ExploreJob> jobs = exploreJobs(scenes.size(), grid);
     // Every job's tiles and memory before the first render.
     for (const ExploreJob& job : jobs) {

@@ -71,8 +71,12 @@ std::vector<ExploreRow> unpackExploreRows(const std::string& text);
 
 std::string exploreCsvHeader(const ExploreGrid& grid);
 
-// Checks every job (jobScene) first, then runs jobs [0, n) for which `mine(j)` is true, in order;
-// `emit(j, rows)` receives each job's rows.
+// Throws InputError("command line", "scenes", ...) when two of the scene arguments name one file
+// (the same path, or two spellings of it): its rows would come out twice, as sweep refuses too.
+void checkDistinctScenes(const std::vector<std::string>& paths);
+
+// Checks the scenes are distinct (checkDistinctScenes) and every job (jobScene) first, then runs
+// jobs [0, n) for which `mine(j)` is true, in order; `emit(j, rows)` receives each job's rows.
 void runExploreJobs(const std::vector<SceneDesc>& scenes, const ExploreGrid& grid,
                     const HardwareConfig& baseHardware, int threads, const SceneLimits& limits,
                     const std::function<bool(std::size_t)>& mine,

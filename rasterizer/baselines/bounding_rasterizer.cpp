@@ -101,6 +101,11 @@ class BandRasterizer {
 
     void triangle(const MovingMesh& mesh, std::uint32_t tri, BoundingWork& work) const {
         const std::uint32_t* v = &mesh.indices[3 * std::size_t(tri)];
+        if (behindNearPlane(mesh, v)) {
+            ++work.triangleSetups;  // the six depths read and compared
+            ++work.trianglesCulled;
+            return;
+        }
         const int spp = t_.opaque->samplesPerPixel();
         switch (o_.method) {
             case Bounding::TriangleBBox:
@@ -130,6 +135,21 @@ class BandRasterizer {
     }
 
   private:
+    // Every vertex nearer than the near plane (depth < near) at t=0 and at t=1. Each vertex moves
+    // on a segment and the triangle is the convex hull of its vertices, so the triangle stays in
+    // that half-space for the whole shutter: no ray meets it at lambda >= lambdaMin. Without this
+    // its bounds are the whole screen and every sample is tested for nothing. The test is the patch
+    // rasterizer's near-plane test (tile_frustum.cpp: z + near > 0 is outside), so the two
+    // methods cull alike.
+    bool behindNearPlane(const MovingMesh& mesh, const std::uint32_t* v) const {
+        const float nearPlane = c_.camera.nearPlane();
+        for (int k = 0; k < 3; ++k)
+            if (!(mesh.position0[v[k]].z + nearPlane > 0) ||
+                !(mesh.position1[v[k]].z + nearPlane > 0))
+                return false;
+        return true;
+    }
+
     PixelRect spanBounds(const MovingMesh& mesh, const std::uint32_t* v, float ta, float tb,
                          BoundingWork& work) const {
         ScreenBox box;
@@ -251,7 +271,8 @@ std::vector<BoundingWork> rasterizeByBounds(const std::vector<MovingMesh>& meshe
             BoundingWork& work = bandWork[band][i];
             for (std::uint32_t tri = 0; tri < meshes[i].triangleCount(); ++tri)
                 rasterizer.triangle(meshes[i], tri, work);
-            if (band != 0) work.triangleSetups = work.fullScreenBounds = 0;  // counted once
+            if (band != 0)  // counted once
+                work.triangleSetups = work.fullScreenBounds = work.trianglesCulled = 0;
         }
     });
     std::vector<BoundingWork> perMesh(meshes.size());

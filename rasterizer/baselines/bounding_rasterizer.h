@@ -17,9 +17,11 @@
 // confusion R |1/F - 1/depth|, largest at the ends of its depth range. So the box of the vertices'
 // projections at the ends of the time span, each widened by its own circle of confusion, holds the
 // triangle at every time and lens point of the span. A vertex in front of the near plane makes the
-// bounds the whole screen. Tests are the watertight ray-triangle test on the sample's own ray,
-// so these methods find the same nearest hit as the patch rasterizer and the reference for the
-// same samples.
+// bounds the whole screen, unless the whole triangle is nearer than the near plane (behind the
+// camera, say) at both ends of the shutter: then (linear motion, a convex half-space) it is so at
+// every time, can hit no sample, and is culled after its setup without a test. Tests are the
+// watertight ray-triangle test on the sample's own ray, so these methods find the same nearest hit
+// as the patch rasterizer and the reference for the same samples.
 
 #include <functional>
 #include <vector>
@@ -39,20 +41,24 @@ enum class Bounding : std::uint8_t { TriangleBBox, Interval, Interleaved };
 
 // X(field, "Name", "unit", kind, "definition", charges...) (core/work_counts.h): one list, one
 // counter per method and field ("BB/", "IV/", "IL/" + name).
-#define PATCHSIM_BOUNDING_WORK(X)                                                               \
-    X(triangleSetups, "Triangle setups", "setups", Sum,                                         \
-      "Triangle screen bounds computed (per triangle; per time stratum; per interleaved pass)", \
-      Op::TriangleSetups)                                                                       \
-    X(fullScreenBounds, "Full-screen bounds", "setups", Sum,                                    \
-      "Bounds that reached in front of the near plane: the whole screen")                       \
-    X(samplesTested, "Samples tested", "samples", Sum,                                          \
-      "Sample-triangle pairs tested, one watertight ray-triangle test each", Op::SamplesTested, \
-      Op::RayTriangleTests)                                                                     \
-    X(visibilitySamples, "Visibility samples", "samples", Sum,                                  \
-      "Tests that found a hit nearer than the sample's z-buffer entry", Op::DepthTests)         \
-    X(transparentFragments, "Transparent fragments", "fragments", Sum,                          \
-      "Transparent hits offered to a sample's layers", Op::TransparentFragments)                \
-    X(transparentOverflow, "Transparent overflow", "fragments", Sum,                            \
+#define PATCHSIM_BOUNDING_WORK(X)                                                                \
+    X(triangleSetups, "Triangle setups", "setups", Sum,                                          \
+      "Triangle screen bounds computed (per triangle; per time stratum; per interleaved pass), " \
+      "or one for a triangle culled behind the camera",                                          \
+      Op::TriangleSetups)                                                                        \
+    X(trianglesCulled, "Triangles culled behind the camera", "triangles", Sum,                   \
+      "Triangles nearer than the near plane at both shutter ends, so at every time: no bounds, " \
+      "no sample tested (their one setup is counted above)")                                     \
+    X(fullScreenBounds, "Full-screen bounds", "setups", Sum,                                     \
+      "Bounds that reached in front of the near plane: the whole screen")                        \
+    X(samplesTested, "Samples tested", "samples", Sum,                                           \
+      "Sample-triangle pairs tested, one watertight ray-triangle test each", Op::SamplesTested,  \
+      Op::RayTriangleTests)                                                                      \
+    X(visibilitySamples, "Visibility samples", "samples", Sum,                                   \
+      "Tests that found a hit nearer than the sample's z-buffer entry", Op::DepthTests)          \
+    X(transparentFragments, "Transparent fragments", "fragments", Sum,                           \
+      "Transparent hits offered to a sample's layers", Op::TransparentFragments)                 \
+    X(transparentOverflow, "Transparent overflow", "fragments", Sum,                             \
       "Transparent fragments dropped because a sample's layers were full")
 
 struct BoundingCounters {
