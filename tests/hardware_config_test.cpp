@@ -116,8 +116,8 @@ TEST(HardwareConfig, EveryOperationIsDocumentedWithItsStage) {
         for (const std::string& row : rows) {
             if (row.rfind(stage, 0) != 0) continue;
             const std::size_t end = row.find(" | ", stage.size());
-            found = found || row.substr(stage.size(), end - stage.size()).find(key) !=
-                                 std::string::npos;
+            found = found ||
+                    row.substr(stage.size(), end - stage.size()).find(key) != std::string::npos;
         }
         EXPECT_TRUE(found) << opName(op) << " has no row of stage " << stageName(stageOf(op))
                            << " in docs/HARDWARE.md";
