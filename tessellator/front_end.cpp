@@ -4,36 +4,11 @@
 #include <cmath>
 #include <exception>
 
-#include "core/counters.h"
 #include "core/error.h"
 #include "core/parallel.h"
 #include "tessellator/patch_boundary.h"
 
 namespace patchsim {
-
-const Counter hsPatches{"HS/Patches", "patches",
-                        "Patches whose tessellation factors were computed"};
-const Counter hsCulled{"HS/Patches culled", "patches",
-                       "Patches culled by an edge factor <= 0 or NaN"};
-const Counter hsEdgeFactors{"HS/Edge factors", "factors", "Edge tessellation factors computed"};
-const Counter tsPoints{"TS/Domain points", "points",
-                       "Domain points emitted by the D3D11 tessellator"};
-const Counter tsTriangles{"TS/Triangles", "triangles",
-                          "Triangles emitted by the D3D11 tessellator"};
-const Counter tsStitchPoints{
-    "TS/Stitch points", "points",
-    "Points added on an edge where the neighbouring patch's fractional pattern differs "
-    "(an N-gon's half edges against a whole edge), so no T-junction remains"};
-const Counter dsEvaluations{
-    "DS/Evaluations", "points",
-    "Domain points evaluated on the limit surface (one stencil, applied at t=0 and t=1)"};
-const Counter dsOwnerEvaluations{
-    "DS/Shared-edge evaluations", "points",
-    "Domain points on an edge or corner shared with a lower-numbered patch, evaluated "
-    "on that owner patch"};
-const Counter dsApplications{
-    "DS/Stencil applications", "applications",
-    "Stencil weight sets applied to a control-point set (position, du, dv at both shutter ends)"};
 
 namespace {
 
@@ -196,8 +171,6 @@ void FrontEnd::runHullShader(const SceneObject& object, const PatchInfo& patch,
     float patchEdges[4];
     for (int e = 0; e < patch.cornerCount(); ++e)
         patchEdges[e] = rawEdgeFactor(object, patch.edgeSources[e]);
-    hsEdgeFactors += patch.cornerCount();
-    ++hsPatches;
     if (patch.domain == PatchDomain::Quad) {
         // D3D11 order u=0, v=0, u=1, v=1 is patch edges 3, 0, 1, 2.
         const float d3d[4] = {patchEdges[3], patchEdges[0], patchEdges[1], patchEdges[2]};
@@ -240,11 +213,10 @@ void FrontEnd::runTessellator(std::size_t index, TessellatedPatch& out,
     }
 }
 
-int FrontEnd::stitchSharedEdges(TessellatedPatch& out, FrontEndWorkspace& ws) const {
+void FrontEnd::stitchSharedEdges(TessellatedPatch& out, FrontEndWorkspace& ws) const {
     const SubdivisionMesh& mesh = *objects_[std::size_t(out.object)].mesh;
     const std::size_t objectBase = patchOffsets_[std::size_t(out.object)];
     const PatchInfo& patch = mesh.patches()[std::size_t(out.patch)];
-    int added = 0;
     std::vector<std::uint32_t>& wanted = ws.stitchPoints;
     for (int e = 0; e < patch.cornerCount(); ++e) {
         SubdivisionMesh::CageEdgeSpan mine;
@@ -258,6 +230,7 @@ int FrontEnd::stitchSharedEdges(TessellatedPatch& out, FrontEndWorkspace& ws) co
                 other.start >= mine.start + mine.length || other.start + other.length <= mine.start)
                 continue;
             runTessellator(objectBase + std::size_t(other.patch), ws.neighbour, ws);
+            ++out.work.neighbourTessellations;
             if (ws.neighbour.culled()) continue;
             for (const std::uint32_t s :
                  pointsOnEdge(ws.neighbour.tessellation, ws.neighbour.domain, other.edge)) {
@@ -268,21 +241,25 @@ int FrontEnd::stitchSharedEdges(TessellatedPatch& out, FrontEndWorkspace& ws) co
         }
         std::sort(wanted.begin(), wanted.end());
         wanted.erase(std::unique(wanted.begin(), wanted.end()), wanted.end());
-        added += insertEdgePoints(out.tessellation, out.domain, e, wanted);
+        out.work.stitchPoints += insertEdgePoints(out.tessellation, out.domain, e, wanted);
     }
-    return added;
 }
 
 void FrontEnd::tessellate(std::size_t index, TessellatedPatch& out, FrontEndWorkspace& ws,
                           bool evaluate) const {
+    out.work = {};
     runTessellator(index, out, ws);
-    if (out.culled()) ++hsCulled;
+    FrontEndWork& work = out.work;
+    work.patches = 1;
+    work.patchControlPoints = out.controlPoints;
+    work.hullPatches = 1;
+    work.edgeFactors = out.domain == PatchDomain::Quad ? 4 : 3;
+    work.culledPatches = out.culled() ? 1 : 0;
     // Integer partitioning makes the two sides agree by construction (hull shader); fractional
     // patterns of whole and half edges differ, so each side takes the other's points.
-    if (!out.culled() && !integerLike(hull_.partitioning))
-        tsStitchPoints += stitchSharedEdges(out, ws);
-    tsPoints += std::int64_t(out.tessellation.points.size());
-    tsTriangles += std::int64_t(out.triangleCount());
+    if (!out.culled() && !integerLike(hull_.partitioning)) stitchSharedEdges(out, ws);
+    work.domainPoints = std::int64_t(out.tessellation.points.size());
+    work.triangles = std::int64_t(out.triangleCount());
     for (int end = 0; end < 2; ++end) {
         out.position[end].clear();
         out.normal[end].clear();
@@ -290,6 +267,7 @@ void FrontEnd::tessellate(std::size_t index, TessellatedPatch& out, FrontEndWork
     out.surfaceUV.clear();
     if (evaluate && !out.culled())
         runDomainShader(objects_[std::size_t(out.object)], out.patch, out, ws);
+    work.flush();
 }
 
 void FrontEnd::runDomainShader(const SceneObject& object, int patchIndex, TessellatedPatch& out,
@@ -342,9 +320,9 @@ void FrontEnd::runDomainShader(const SceneObject& object, int patchIndex, Tessel
             out.normal[end][k] = safeNormal(du, dv);
         }
     }
-    dsEvaluations += std::int64_t(n);
-    dsOwnerEvaluations += ownerEvaluations;
-    dsApplications += std::int64_t(n) * 6;
+    out.work.evaluations = std::int64_t(n);
+    out.work.ownerEvaluations = ownerEvaluations;
+    out.work.stencilApplications = std::int64_t(n) * 6;
 }
 
 }  // namespace patchsim

@@ -19,6 +19,7 @@
 #include "core/camera.h"
 #include "core/scene.h"
 #include "tessellator/d3d11_tessellator.h"
+#include "tessellator/front_end_work.h"
 #include "tessellator/hull_shader.h"
 #include "tessellator/subdivision_mesh.h"
 #include "tessellator/vertex_stage.h"
@@ -43,6 +44,7 @@ struct TessellatedPatch {
     std::vector<Vec3> position[2];  // limit position at shutter open / close, world space
     std::vector<Vec3> normal[2];
     std::vector<Vec2> surfaceUV;  // face-level Bfr (u,v)
+    FrontEndWork work;            // what the front end did for this patch (already counted)
 
     bool culled() const { return tessellation.culled; }
     std::size_t triangleCount() const { return tessellation.triangleCount(); }
@@ -84,7 +86,7 @@ class FrontEnd {
     // HS and TS only.
     void runTessellator(std::size_t index, TessellatedPatch& out, FrontEndWorkspace& ws) const;
     // Adds the points neighbouring patches have on shared cage edges (patch_boundary.h).
-    int stitchSharedEdges(TessellatedPatch& out, FrontEndWorkspace& ws) const;
+    void stitchSharedEdges(TessellatedPatch& out, FrontEndWorkspace& ws) const;
     void runDomainShader(const SceneObject& object, int patchIndex, TessellatedPatch& out,
                          FrontEndWorkspace& ws) const;
     float adaptiveFactor(const Vec3 a[2], const Vec3 b[2]) const;

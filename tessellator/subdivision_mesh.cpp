@@ -22,8 +22,6 @@ namespace patchsim {
 
 namespace osd = OpenSubdiv::OPENSUBDIV_VERSION;
 
-const Counter iaPatches{"IA/Patches", "patches",
-                        "Tessellation domains made from cage faces (an N-gon is N)"};
 const Counter iaCageFaces{"IA/Cage faces", "faces", "Faces of the control cages read"};
 const Counter iaHoleFaces{"IA/Hole faces", "faces", "Cage faces tagged as holes (no patch)"};
 const Counter iaFarFaces{
@@ -242,7 +240,6 @@ void SubdivisionMesh::buildPatches() {
             patches_.push_back(p);
         }
     }
-    iaPatches += std::int64_t(patches_.size());
 }
 
 bool SubdivisionMesh::cageEdgeSpan(int patch, int edge, CageEdgeSpan& span) const {

@@ -48,17 +48,8 @@ std::vector<PatchOps> frontEndAndShadingOps(const std::vector<TessellatedPatch>&
                                             const std::vector<double>& shading) {
     std::vector<PatchOps> ops(patches.size());
     for (std::size_t i = 0; i < patches.size(); ++i) {
-        const TessellatedPatch& p = patches[i];
-        PatchOps& o = ops[i];
-        const double points = double(p.tessellation.points.size());
-        o[Op::Patches] = 1;
-        o[Op::ControlPoints] = p.controlPoints;
-        o[Op::EdgeFactors] = p.domain == PatchDomain::Quad ? 4 : 3;
-        o[Op::DomainPoints] = points;
-        o[Op::Triangles] = double(p.triangleCount());
-        o[Op::Evaluations] = p.culled() ? 0 : points;
-        o[Op::StencilApplications] = p.culled() ? 0 : 6 * points;
-        o[Op::Invocations] = shading[i];
+        patches[i].work.charge(ops[i]);
+        ops[i][Op::Invocations] = shading[i];
     }
     return ops;
 }
