@@ -11,7 +11,7 @@
 namespace patchsim {
 namespace {
 
-RenderResult renderWith(SceneDesc scene, const VisibilityMethod* method, int strata = 4) {
+RenderResult renderWith(SceneDesc scene, const VisibilityMethod* method, int strata = 0) {
     RenderOptions options;
     options.method = method;
     options.timeStrata = strata;
@@ -34,7 +34,7 @@ TEST(BoundingRasterizer, TriangleBBoxAndIntervalEqualThePatchMethodSampleForSamp
         const SceneDesc scene = small(path.substr(test::sourcePath("").size()));
         const RenderResult patch = renderWith(scene, &methodNamed("patch"));
         for (auto [method, strata] :
-             {std::pair{&methodNamed("triangle-bbox"), 4}, std::pair{&methodNamed("interval"), 4},
+             {std::pair{&methodNamed("triangle-bbox"), 0}, std::pair{&methodNamed("interval"), 0},
               std::pair{&methodNamed("interval"), 1}, std::pair{&methodNamed("interval"), 7}}) {
             const test::Comparison c = test::compare(patch, renderWith(scene, method, strata));
             EXPECT_GT(c.hits, 0u) << path;
@@ -42,6 +42,62 @@ TEST(BoundingRasterizer, TriangleBBoxAndIntervalEqualThePatchMethodSampleForSamp
                                         << c.mismatches << " of " << c.samples << " samples differ";
         }
     }
+}
+
+// K = 0 is one stratum per sample of a pixel (Fatahalian et al.'s setting). The sampler
+// stratifies time per pixel, so every pixel then has exactly one sample in each stratum, and
+// each sample is tested only against its own stratum's bounds: fewer samples than at K = 4, the
+// same visibility.
+TEST(BoundingRasterizer, IntervalDefaultsToOneStratumPerSample) {
+    SceneDesc scene = small("scenes/motion.json");
+    scene.film.samplesPerPixel = 16;
+    const Effects effects = detectEffects(scene, true, false);
+    ASSERT_TRUE(effects.motion);
+    const SampleGenerator samples(scene.film.seed, 16, effects);
+    for (int y = 0; y < scene.film.height; ++y)
+        for (int x = 0; x < scene.film.width; ++x) {
+            int perStratum[16] = {};
+            for (int s = 0; s < 16; ++s)
+                ++perStratum[std::min(int(samples.sample(x, y, s).time * 16.0f), 15)];
+            for (int k = 0; k < 16; ++k)
+                ASSERT_EQ(perStratum[k], 1) << "pixel " << x << "," << y << " stratum " << k;
+        }
+
+    const VisibilityMethod* interval = &methodNamed("interval");
+    auto run = [&](int strata, std::int64_t& tested) {
+        CounterRegistry::instance().reset();
+        RenderResult result = renderWith(scene, interval, strata);
+        const CounterValues c = CounterRegistry::instance().snapshot();
+        EXPECT_EQ(c[intervalTimeStrataCounter()], strata == 0 ? 16 : strata);
+        tested = c.byName("IV/Samples tested");
+        return result;
+    };
+    std::int64_t testedAtSpp = 0, testedAtFour = 0;
+    const RenderResult atSpp = run(0, testedAtSpp);
+    const RenderResult atFour = run(4, testedAtFour);
+    EXPECT_LT(testedAtSpp, testedAtFour);
+    const test::Comparison c = test::compare(renderWith(scene, &methodNamed("patch")), atSpp);
+    EXPECT_GT(c.hits, 0u);
+    EXPECT_EQ(c.mismatches, 0u) << c.mismatches << " of " << c.samples << " samples differ";
+    EXPECT_EQ(test::compare(atFour, atSpp).mismatches, 0u);
+}
+
+// Without motion every stratum's bounds are the same: one stratum, whatever K asks for, so the
+// interval method sets each triangle up once, as triangle-bbox does.
+TEST(BoundingRasterizer, IntervalUsesOneStratumWhenNothingMoves) {
+    const SceneDesc scene = small("scenes/static.json");
+    for (int strata : {0, 8}) {
+        CounterRegistry::instance().reset();
+        renderWith(scene, &methodNamed("interval"), strata);
+        renderWith(scene, &methodNamed("triangle-bbox"), strata);
+        const CounterValues c = CounterRegistry::instance().snapshot();
+        EXPECT_EQ(c[intervalTimeStrataCounter()], 1);
+        EXPECT_EQ(c.byName("IV/Triangle setups"), c.byName("BB/Triangle setups"));
+        EXPECT_EQ(c.byName("IV/Samples tested"), c.byName("BB/Samples tested"));
+    }
+    EXPECT_EQ(intervalTimeStrata(0, 16, true), 16);
+    EXPECT_EQ(intervalTimeStrata(5, 16, true), 5);
+    EXPECT_EQ(intervalTimeStrata(5, 16, false), 1);
 }
 
 // Interleaved is exact for its own samples: the patch method on the same interleaved sample set
@@ -61,6 +117,37 @@ TEST(BoundingRasterizer, InterleavedIsExactForItsOwnSamples) {
         if (a.hit() && b.hit()) {
             EXPECT_EQ(a.time, b.time);
         }
+    }
+}
+
+// An accumulation buffer renders the frame once per sample index: its front end is charged once
+// per pass (at the pass's one time, so half the two-ended kinds), and every pass's image is
+// added into the accumulation buffer. The single-pass methods pay the front end once.
+TEST(BoundingRasterizer, InterleavedPaysTheFrontEndAndAFullFramePerPass) {
+    auto total = [](const RenderResult& r, Op op) {
+        double sum = 0;
+        for (const PatchOps& ops : r.patchOps) sum += ops[op];
+        return sum;
+    };
+    SceneDesc scene = small("scenes/motion_defocus.json");
+    const RenderResult once = renderWith(scene, &methodNamed("triangle-bbox"));
+    ASSERT_GT(total(once, Op::Evaluations), 0);
+    for (int spp : {1, 4, 9}) {
+        scene.film.samplesPerPixel = spp;
+        CounterRegistry::instance().reset();
+        const RenderResult passes = renderWith(scene, &methodNamed("interleaved"));
+        const CounterValues c = CounterRegistry::instance().snapshot();
+        EXPECT_EQ(c.byName("IL/Passes"), spp);
+        for (Op op :
+             {Op::Patches, Op::EdgeFactors, Op::DomainPoints, Op::Triangles, Op::Evaluations})
+            EXPECT_DOUBLE_EQ(total(passes, op), spp * total(once, op)) << opName(op) << " " << spp;
+        for (Op op : {Op::ControlPoints, Op::StencilApplications})
+            EXPECT_DOUBLE_EQ(total(passes, op), 0.5 * spp * total(once, op))
+                << opName(op) << " " << spp;
+        const double pixels = double(spp) * scene.film.width * scene.film.height;
+        EXPECT_EQ(c.byName("IL/Accumulated pixels"), std::int64_t(pixels));
+        EXPECT_DOUBLE_EQ(total(passes, Op::PostSamples), pixels);
+        EXPECT_EQ(total(once, Op::PostSamples), 0);
     }
 }
 

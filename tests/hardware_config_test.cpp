@@ -31,6 +31,29 @@ TEST(HardwareConfig, DefaultShipsAndIsBuiltIn) {
         EXPECT_GT(builtIn.stage(stageOf(Op(k))).throughput[std::size_t(k)], 0) << opName(Op(k));
 }
 
+// The iso-arithmetic file (scripts/iso-hardware.py) reprices only the rasterizer's and output
+// merger's operation kinds; every stage keeps the default's units, latency and FIFO, and the other
+// stages their throughputs, so a comparison under both files changes one thing.
+TEST(HardwareConfig, IsoArithmeticRepricesOnlyTheRasterizerAndOutputMerger) {
+    const HardwareConfig base = defaultHardwareConfig();
+    const HardwareConfig iso =
+        readHardwareConfig(test::sourcePath("pipeline/hw/iso_arithmetic.json"));
+    EXPECT_EQ(iso.clockGHz, base.clockGHz);
+    bool repriced = false;
+    for (int s = 0; s < kStageCount; ++s) {
+        const StageConfig &a = base.stages[std::size_t(s)], &b = iso.stages[std::size_t(s)];
+        EXPECT_EQ(a.units, b.units) << stageName(Stage(s));
+        EXPECT_EQ(a.latency, b.latency) << stageName(Stage(s));
+        EXPECT_EQ(a.fifoDepth, b.fifoDepth) << stageName(Stage(s));
+        if (Stage(s) != Stage::RS && Stage(s) != Stage::OM) {
+            EXPECT_EQ(a.throughput, b.throughput) << stageName(Stage(s));
+        } else {
+            repriced = repriced || a.throughput != b.throughput;
+        }
+    }
+    EXPECT_TRUE(repriced);
+}
+
 TEST(HardwareConfig, ErrorsNameTheField) {
     const std::string full = R"({"stages": {"IA": {"throughput": {"patches": 1}}}})";
     EXPECT_NE(errorOf(full).find("stages.VS: missing stage"), std::string::npos);

@@ -80,8 +80,10 @@ std::vector<JobOption> makeTable() {
                   "Samples per pixel of the converged image (0: 16 x the largest --spp)")
                     .in(0, 1 << 20));
     t.push_back(
-        O("--time-strata", kPerMethod, K::Integer, &S::timeStrata, "interval: time strata K")
-            .in(1, 64)
+        O("--time-strata", kPerMethod, K::Integer, &S::timeStrata,
+          "interval: time strata K (0: one per sample of a pixel, as Fatahalian et al. run it; "
+          "one when nothing moves)")
+            .in(0, 4096)
             .recordedAs("time_strata"));
     t.push_back(O("--pp-tile-size", kPerMethod, K::Integer, &S::ppTileSize,
                   "postprocess: TileMax tile size k in pixels (velocities are clamped to it)")

@@ -47,7 +47,7 @@ struct JobSettings {
     // render (and the per-method options sweep shares)
     std::string method = "patch";
     int spp = 0, width = 0, height = 0;  // 0: the scene's own film
-    int timeStrata = 4;
+    int timeStrata = 0;
     int ppTileSize = PostprocessOptions{}.tileSize, ppSamples = PostprocessOptions{}.samples;
     float softZExtent = PostprocessOptions{}.softZExtent;
     float edgeThreshold = HybridOptions{}.edgeThreshold;

@@ -42,13 +42,14 @@ FrontEndOutput runFrontEnd(const FrontEnd& frontEnd, const Effects& effects, int
     return out;
 }
 
-// The front end's and the shader's share of each patch's work; the visibility method adds its
-// own.
+// The front end's and the shader's share of each patch's work (the front end's as the method's
+// passes run it); the visibility method adds its own.
 std::vector<PatchOps> frontEndAndShadingOps(const std::vector<TessellatedPatch>& patches,
-                                            const std::vector<double>& shading) {
+                                            const std::vector<double>& shading,
+                                            const MethodFrame& frame) {
     std::vector<PatchOps> ops(patches.size());
     for (std::size_t i = 0; i < patches.size(); ++i) {
-        patches[i].work.charge(ops[i]);
+        frame.chargeFrontEnd(patches[i].work, ops[i]);
         ops[i][Op::Invocations] = shading[i];
     }
     return ops;
@@ -151,7 +152,7 @@ RenderResult renderScene(const SceneDesc& scene, const RenderOptions& options) {
     }
     frame->finish(result.frame);
     result.shadingSeconds = secondsSince(start);
-    result.patchOps = frontEndAndShadingOps(fe.patches, result.frame.shadedPerPatch);
+    result.patchOps = frontEndAndShadingOps(fe.patches, result.frame.shadedPerPatch, *frame);
     for (std::size_t i = 0; i < result.patchOps.size(); ++i)
         result.patchOps[i].add(frame->ops()[i]);
     return result;

@@ -8,6 +8,15 @@ namespace patchsim {
 
 namespace {
 
+const Counter kInterleavedPasses{"IL/Passes", "passes",
+                                 "Frames rendered and accumulated: one per sample index, each "
+                                 "running the front end at its own time",
+                                 CounterKind::Max};
+const Counter kAccumulatedPixels{"IL/Accumulated pixels", "pixels",
+                                 "Pixels added into the accumulation buffer (every pixel of every "
+                                 "pass), charged as full-screen pass reads",
+                                 CounterKind::Sum};
+
 class BoundingFrame : public MethodFrame {
   public:
     BoundingFrame(const FrameInputs& in, Bounding bounding)
@@ -16,7 +25,10 @@ class BoundingFrame : public MethodFrame {
         const RayCaster caster{in_.camera(), in_.lens(), *in_.samples, in_.effects.motion, true};
         BoundingOptions options;
         options.method = bounding_;
-        options.timeStrata = in_.options->timeStrata;
+        options.timeStrata = intervalTimeStrata(in_.options->timeStrata,
+                                                in_.samples->samplesPerPixel(), in_.effects.motion);
+        if (bounding_ == Bounding::Interval)
+            intervalTimeStrataCounter().raiseTo(options.timeStrata);
         options.threads = in_.workers;
         options.partition = in_.partition;
         const std::vector<BoundingWork> work =
@@ -25,6 +37,30 @@ class BoundingFrame : public MethodFrame {
             work[i].flush(bounding_);
             work[i].charge(ops_[i]);
         }
+    }
+
+    // An accumulation buffer renders the frame once per sample index, so every pass runs the
+    // front end again, at the pass's one time: the kinds counted at both shutter ends (control
+    // points transformed, stencils applied) cost half per pass, the rest in full.
+    void chargeFrontEnd(const FrontEndWork& work, PatchOps& ops) const override {
+        if (bounding_ != Bounding::Interleaved) return work.charge(ops);
+        PatchOps pass;
+        work.charge(pass);
+        pass[Op::ControlPoints] *= 0.5;
+        pass[Op::StencilApplications] *= 0.5;
+        const double passes = double(in_.samples->samplesPerPixel());
+        for (std::size_t k = 0; k < pass.ops.size(); ++k) ops.ops[k] += passes * pass.ops[k];
+    }
+    // Each pass's image is added into the accumulation buffer: a full-screen pass per sample
+    // index, charged with the frame's last patch as the image-space methods' passes are.
+    void finish(ResolvedFrame&) override {
+        if (bounding_ != Bounding::Interleaved || ops_.empty()) return;
+        const int passes = in_.samples->samplesPerPixel();
+        const std::int64_t pixels =
+            std::int64_t(passes) * in_.scene->film.width * in_.scene->film.height;
+        kInterleavedPasses.raiseTo(passes);
+        kAccumulatedPixels += pixels;
+        ops_.back()[Op::PostSamples] += double(pixels);
     }
 
   private:

@@ -40,7 +40,7 @@ struct RenderOptions {
     EffectOverrides overrides;
     int threads = 0;
     int maxLayers = 16;              // transparent t-fragments kept per sample
-    int timeStrata = 4;              // the interval method's K
+    int timeStrata = 0;              // the interval method's K; 0: the film's samples per pixel
     PostprocessOptions postprocess;  // the postprocess and hybrid methods' filter
     float edgeThreshold = HybridOptions{}.edgeThreshold;  // the hybrid's ray mask: threshold e
     ReprojectionOptions reprojection;                     // the reprojection method's cameras

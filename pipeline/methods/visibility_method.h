@@ -16,6 +16,8 @@
 //   counts of the work it did, and adds that work to `ops()`: per patch, as the operations the
 //   timing model charges. When a frame is split over MPI ranks, rank 0 adds the other ranks'
 //   `ops()` to its own, and their counters to its counters.
+// - `chargeFrontEnd` adds a patch's front-end work (IA to DS) to the patch's operations: as the
+//   front end did it, or as many times as the method's passes run it.
 // - `finish(frame)` runs on rank 0 after the back end has shaded and resolved the frame: the
 //   method's own image step (a post-process, a reprojection, colours of its own), whose work it
 //   flushes and adds to `ops()` too.
@@ -67,6 +69,9 @@ class MethodFrame {
 
     virtual void visibility() = 0;
     virtual void finish(ResolvedFrame& frame) { (void)frame; }
+    // Charges one patch's front-end work: once, unless the method runs the front end once per
+    // pass (an accumulation buffer).
+    virtual void chargeFrontEnd(const FrontEndWork& work, PatchOps& ops) const { work.charge(ops); }
     std::vector<PatchOps>& ops() { return ops_; }
 
     // The rows of the frame this process filled, when it is split: bands of pixel rows, unless

@@ -31,6 +31,19 @@ const BoundingCounters kInterleaved{PATCHSIM_BOUNDING_WORK(PATCHSIM_IL_REF)};
 
 }  // namespace
 
+int intervalTimeStrata(int requested, int samplesPerPixel, bool motion) {
+    if (!motion) return 1;
+    return requested > 0 ? requested : std::max(samplesPerPixel, 1);
+}
+
+const Counter& intervalTimeStrataCounter() {
+    static const Counter strata{"IV/Time strata", "strata",
+                                "The interval method's K: shutter strata, each with its own bounds "
+                                "per triangle (the largest of the process's renders)",
+                                CounterKind::Max};
+    return strata;
+}
+
 const BoundingCounters& boundingCounters(Bounding m) {
     return m == Bounding::TriangleBBox ? kTriangleBBox
            : m == Bounding::Interval   ? kInterval

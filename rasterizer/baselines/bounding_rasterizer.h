@@ -76,9 +76,19 @@ struct BoundingWork {
 // Visibility samples / samples tested of one bounding method.
 const RatioCounter& boundingSampleTestEfficiency(Bounding method);
 
+// The interval method's K. `requested` > 0 is used as given; 0 gives one stratum per sample of a
+// pixel, the setting of Fatahalian et al. 2009: the sampler stratifies time per pixel, one stratum
+// per sample index, so every pixel then has exactly one sample in each stratum. When motion is not
+// simulated every stratum's bounds are the same and K is 1: more strata would only set each
+// triangle up again.
+int intervalTimeStrata(int requested, int samplesPerPixel, bool motion);
+
+// The K an interval render used (a Max counter: every render of a process raises it).
+const Counter& intervalTimeStrataCounter();
+
 struct BoundingOptions {
     Bounding method = Bounding::TriangleBBox;
-    int timeStrata = 4;  // interval: K
+    int timeStrata = 1;  // interval: K (intervalTimeStrata)
     int threads = 0;
     // The bands of rows this process rasterizes.
     FramePartition partition;

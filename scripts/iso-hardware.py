@@ -1,0 +1,78 @@
+#!/usr/bin/env python3
+"""Writes pipeline/hw/iso_arithmetic.json: the default hardware with every rasterizer (RS) and
+output-merger (OM) operation priced by its arithmetic against one shared budget per unit.
+
+The default file's throughputs are round numbers (docs/HARDWARE.md), and they decide which method
+is cheapest: a sample test at 32 per clock, a ray-box test at 8. Here each kind costs the
+arithmetic operations its kernel performs (a fused multiply-add, a compare, a min or max, a select
+count one; a reciprocal or divide four), counted in the code named beside it, and a unit does
+BUDGET of them per clock, so every method buys its operations from the same datapath. The budget
+is set so a ray-box test keeps about its default rate, which leaves the overall scale of the
+cycles near the default's. Memory traffic is not priced here (each kind's bytes are listed for
+the memory model).
+
+    scripts/iso-hardware.py            # writes the file
+    scripts/iso-hardware.py --markdown # prints the table of docs/HARDWARE.md
+"""
+import json
+import pathlib
+import sys
+
+RS_BUDGET = 256  # arithmetic operations per RS unit per clock
+OM_BUDGET = 16   # per OM unit per clock
+
+# (stage, kind, operations, bytes read, where counted, how)
+COSTS = [
+    ("RS", "plane_tests", 7, 24, "rasterizer/patent/tile_frustum.cpp",
+     "n-vertex select (3), plane distance (3 FMA), compare (1)"),
+    ("RS", "time_intervals", 7, 0, "rasterizer/patent/tile_frustum.cpp insideInterval",
+     "d0 - d1 (1), divide (4), guard add (1), clamp to the shutter (1)"),
+    ("RS", "samples_tested", 3, 4, "tile_traversal.cpp; bounding_rasterizer.cpp testRect",
+     "the sample's time against a range or stratum (2 compares), mask or skip (1)"),
+    ("RS", "ray_box_tests", 29, 48, "rasterizer/patent/moving_box_ray.h hitsMovingBox",
+     "per axis two entry distances (4 FMA), min, max and the running max and min (4); "
+     "slack and final compare (5)"),
+    ("RS", "ray_triangle_tests", 56, 72, "rasterizer/common/watertight_triangle.h",
+     "vertices at the ray's time (9 FMA), translate (9), shear (6), edge functions (6), signs (6), "
+     "determinant and its checks (4), depth (6), reciprocal (4), range (2), barycentrics (4)"),
+    ("RS", "triangle_setups", 150, 72, "bounding_rasterizer.cpp spanBounds",
+     "six vertex positions (3 FMA each), depth checks (2), reciprocal (4), circle of confusion "
+     "(3), projection (2), box growth (8): 22 per point; pixel rectangle (18)"),
+    ("RS", "nodes_built", 24, 96, "rasterizer/patent/patch_hierarchy.cpp",
+     "a node's moving box from its two children: 6 min or max at each shutter end per child pair (bounds0, bounds1), two pairs"),
+    ("OM", "depth_tests", 2, 32, "rasterizer/common/visibility_buffer.h",
+     "depth compare (1), record write select (1)"),
+    ("OM", "transparent_fragments", 12, 32, "rasterizer/common/transparent_layers.cpp",
+     "insertion into a sample's depth-sorted layers (about 6 compares and 6 moves)"),
+]
+
+
+def main():
+    root = pathlib.Path(__file__).resolve().parent.parent
+    budgets = {"RS": RS_BUDGET, "OM": OM_BUDGET}
+    if "--markdown" in sys.argv[1:]:
+        print("| stage | operation | arithmetic ops | bytes read | throughput (budget / ops) | counted in | how |")
+        print("|---|---|---|---|---|---|---|")
+        for stage, kind, ops, nbytes, where, how in COSTS:
+            rate = budgets[stage] / ops
+            print(f"| {stage} | `{kind}` | {ops} | {nbytes} | {budgets[stage]} / {ops} = {rate:.3g} "
+                  f"| {where} | {how} |")
+        return 0
+    config = json.loads((root / "pipeline/hw/default.json").read_text())
+    for stage, kind, ops, _, _, _ in COSTS:
+        config["stages"][stage]["throughput"][kind] = round(budgets[stage] / ops, 4)
+    lines = ["{"]
+    lines.append(f'  "clock_ghz": {config["clock_ghz"]},')
+    lines.append(f'  "scratch_budget_bytes": {config["scratch_budget_bytes"]},')
+    lines.append('  "stages": {')
+    stages = list(config["stages"].items())
+    for i, (name, stage) in enumerate(stages):
+        comma = "," if i + 1 < len(stages) else ""
+        lines.append(f'    "{name}": {json.dumps(stage)}{comma}')
+    lines += ["  }", "}"]
+    (root / "pipeline/hw/iso_arithmetic.json").write_text("\n".join(lines) + "\n")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
