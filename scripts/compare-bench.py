@@ -30,7 +30,10 @@ def run_once(binary, regex, cpu, min_time):
         finished = subprocess.run(command, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
         if finished.returncode != 0:
             sys.exit(f"{binary} failed (exit {finished.returncode}):\n{finished.stderr}")
-        rows = json.load(open(out.name))["benchmarks"]
+        text = open(out.name).read()
+        if not text.strip():  # a filter the program cannot compile ends with no rows
+            sys.exit(f"{binary} wrote no results:\n{finished.stderr}")
+        rows = json.loads(text)["benchmarks"]
     # real_time in the row's own unit; both builds report the same unit for the same row.
     return {row["name"]: (row["real_time"], row["time_unit"]) for row in rows
             if row.get("run_type", "iteration") == "iteration"}
@@ -66,16 +69,17 @@ def main():
     missing = sorted(set(times["old"]) ^ set(times["new"]))
     lines = ["benchmark,unit,old_median,new_median,new_over_old,rounds"]
     flagged = 0
+    ratios = []
     print(f"{'benchmark':60} {'old':>10} {'new':>10} {'new/old':>8}")
     for name in names:
         old = statistics.median(times["old"][name])
         new = statistics.median(times["new"][name])
         ratio = new / old if old > 0 else float("inf")
+        ratios.append(ratio)
         mark = "  SLOWER" if ratio > args.threshold else ""
         flagged += bool(mark)
         print(f"{name:60} {old:10.3f} {new:10.3f} {ratio:8.3f}{mark}  ({units[name]})")
         lines.append(f"{name},{units[name]},{old:.4f},{new:.4f},{ratio:.4f},{len(times['new'][name])}")
-    ratios = [float(line.split(",")[4]) for line in lines[1:]]
     if ratios:
         print(f"{len(ratios)} rows; median new/old {statistics.median(ratios):.3f}; "
               f"range {min(ratios):.3f} to {max(ratios):.3f}; {flagged} above {args.threshold}")

@@ -57,16 +57,10 @@ def main():
     for scene in SCENES:
         for spp in args.spp:
             mine = [r for r in rows if r[0] == scene and r[1] == spp]
-            orders = []
-            for k in range(2):
-                ranked = sorted(mine, key=lambda r: r[3][k])
-                orders.append([r[2] for r in ranked])
-                mine_text = ", ".join(f"{r[2]} {r[3][k] / 1e6:.2f}" for r in ranked)
-                if k == 0:
-                    first = mine_text
-                else:
-                    second = mine_text
-            print(f"| {scene} | {spp} | {first} | {second} | {'yes' if orders[0] == orders[1] else '**no**'} |")
+            ranked = [sorted(mine, key=lambda r: r[3][k]) for k in range(2)]
+            texts = [", ".join(f"{r[2]} {r[3][k] / 1e6:.2f}" for r in ranked[k]) for k in range(2)]
+            same = [r[2] for r in ranked[0]] == [r[2] for r in ranked[1]]
+            print(f"| {scene} | {spp} | {texts[0]} | {texts[1]} | {'yes' if same else '**no**'} |")
     return 0
 
 

@@ -28,6 +28,11 @@ PATCHSIM_BOUNDING_WORK(PATCHSIM_IL)
 const BoundingCounters kTriangleBBox{PATCHSIM_BOUNDING_WORK(PATCHSIM_BB_REF)};
 const BoundingCounters kInterval{PATCHSIM_BOUNDING_WORK(PATCHSIM_IV_REF)};
 const BoundingCounters kInterleaved{PATCHSIM_BOUNDING_WORK(PATCHSIM_IL_REF)};
+// Registered with the others at start-up, so every process lists the counters in one order.
+const Counter kIntervalTimeStrata{"IV/Time strata", "strata",
+                                  "The interval method's K: shutter strata, each with its own "
+                                  "bounds per triangle (the largest of the process's renders)",
+                                  CounterKind::Max};
 
 }  // namespace
 
@@ -37,11 +42,7 @@ int intervalTimeStrata(int requested, int samplesPerPixel, bool motion) {
 }
 
 const Counter& intervalTimeStrataCounter() {
-    static const Counter strata{"IV/Time strata", "strata",
-                                "The interval method's K: shutter strata, each with its own bounds "
-                                "per triangle (the largest of the process's renders)",
-                                CounterKind::Max};
-    return strata;
+    return kIntervalTimeStrata;
 }
 
 const BoundingCounters& boundingCounters(Bounding m) {
