@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <tuple>
+
 #include "core/counters.h"
 #include "core/scene_reader.h"
 #include "pipeline/driver/render.h"
@@ -11,10 +13,12 @@
 namespace patchsim {
 namespace {
 
-RenderResult renderWith(SceneDesc scene, const VisibilityMethod* method, int strata = 0) {
+RenderResult renderWith(SceneDesc scene, const VisibilityMethod* method, int strata = 0,
+                        TriangleBound bound = TriangleBound::Hull) {
     RenderOptions options;
     options.method = method;
     options.timeStrata = strata;
+    options.triangleBound = bound;
     options.threads = 2;
     return renderScene(scene, options);
 }
@@ -33,13 +37,19 @@ TEST(BoundingRasterizer, TriangleBBoxAndIntervalEqualThePatchMethodSampleForSamp
     for (const std::string& path : test::sceneFiles()) {
         const SceneDesc scene = small(path.substr(test::sourcePath("").size()));
         const RenderResult patch = renderWith(scene, &methodNamed("patch"));
-        for (auto [method, strata] :
-             {std::pair{&methodNamed("triangle-bbox"), 0}, std::pair{&methodNamed("interval"), 0},
-              std::pair{&methodNamed("interval"), 1}, std::pair{&methodNamed("interval"), 7}}) {
-            const test::Comparison c = test::compare(patch, renderWith(scene, method, strata));
+        const VisibilityMethod* bbox = &methodNamed("triangle-bbox");
+        const VisibilityMethod* interval = &methodNamed("interval");
+        for (auto [method, strata, bound] :
+             {std::tuple{bbox, 0, TriangleBound::Hull}, std::tuple{bbox, 0, TriangleBound::Box},
+              std::tuple{interval, 0, TriangleBound::Hull},
+              std::tuple{interval, 1, TriangleBound::Hull},
+              std::tuple{interval, 7, TriangleBound::Hull}}) {
+            const test::Comparison c =
+                test::compare(patch, renderWith(scene, method, strata, bound));
             EXPECT_GT(c.hits, 0u) << path;
-            EXPECT_EQ(c.mismatches, 0u) << path << " " << method->name() << " K=" << strata << ": "
-                                        << c.mismatches << " of " << c.samples << " samples differ";
+            EXPECT_EQ(c.mismatches, 0u) << path << " " << method->name() << " K=" << strata << " "
+                                        << triangleBoundName(bound) << ": " << c.mismatches
+                                        << " of " << c.samples << " samples differ";
         }
     }
 }
@@ -83,13 +93,13 @@ TEST(BoundingRasterizer, IntervalDefaultsToOneStratumPerSample) {
 }
 
 // Without motion every stratum's bounds are the same: one stratum, whatever K asks for, so the
-// interval method sets each triangle up once, as triangle-bbox does.
+// interval method sets each triangle up once and tests what triangle-bbox's box does.
 TEST(BoundingRasterizer, IntervalUsesOneStratumWhenNothingMoves) {
     const SceneDesc scene = small("scenes/static.json");
     for (int strata : {0, 8}) {
         CounterRegistry::instance().reset();
         renderWith(scene, &methodNamed("interval"), strata);
-        renderWith(scene, &methodNamed("triangle-bbox"), strata);
+        renderWith(scene, &methodNamed("triangle-bbox"), strata, TriangleBound::Box);
         const CounterValues c = CounterRegistry::instance().snapshot();
         EXPECT_EQ(c[intervalTimeStrataCounter()], 1);
         EXPECT_EQ(c.byName("IV/Triangle setups"), c.byName("BB/Triangle setups"));
@@ -151,15 +161,15 @@ TEST(BoundingRasterizer, InterleavedPaysTheFrontEndAndAFullFramePerPass) {
     }
 }
 
-// Tighter bounds test fewer samples for the same visibility: interval below triangle-bbox; and
-// the patch method's advantage over triangle-bbox grows with the motion.
+// Tighter bounds test fewer samples for the same visibility: interval's boxes per stratum below
+// triangle-bbox's one box; and the patch method's advantage over that box grows with the motion.
 TEST(BoundingRasterizer, TighterBoundsTestFewerSamplesAndThePatchMethodGainsWithMotion) {
     SceneDesc base = small("scenes/motion.json");
     base.objects.resize(1);  // the torus sliding across the screen
     base.film = {160, 120, 2, 1};
     auto tested = [&](const SceneDesc& scene, const VisibilityMethod* m) {
         CounterRegistry::instance().reset();
-        renderWith(scene, m);
+        renderWith(scene, m, 0, TriangleBound::Box);
         const CounterValues c = CounterRegistry::instance().snapshot();
         return double(c[m->sampleTestEfficiency().denominator]);
     };
@@ -178,6 +188,33 @@ TEST(BoundingRasterizer, TighterBoundsTestFewerSamplesAndThePatchMethodGainsWith
         previousRatio = ratio;
     }
     EXPECT_GT(previousRatio, 10.0) << "at four times the motion";
+}
+
+// The hull bound (McGuire et al.) visits the pixels the hull reaches, a subset of the box's, and
+// ray-tests only the samples inside it: on every shipped scene its visits are at most the box's
+// tests, its image is the same, and with motion or defocus it ray-tests under two thirds.
+TEST(BoundingRasterizer, TheHullBoundRayTestsASubsetOfTheBoxSamples) {
+    const VisibilityMethod* bbox = &methodNamed("triangle-bbox");
+    for (const std::string& path : test::sceneFiles()) {
+        const SceneDesc scene = small(path.substr(test::sourcePath("").size()));
+        CounterRegistry::instance().reset();
+        renderWith(scene, bbox, 0, TriangleBound::Box);
+        const CounterValues box = CounterRegistry::instance().snapshot();
+        CounterRegistry::instance().reset();
+        renderWith(scene, bbox, 0, TriangleBound::Hull);
+        const CounterValues hull = CounterRegistry::instance().snapshot();
+        EXPECT_EQ(box.byName("BB/Samples outside the hull"), 0) << path;
+        EXPECT_LE(hull.byName("BB/Samples tested") + hull.byName("BB/Samples outside the hull"),
+                  box.byName("BB/Samples tested"))
+            << path;
+        EXPECT_EQ(box.byName("BB/Visibility samples"), hull.byName("BB/Visibility samples"))
+            << path;
+        EXPECT_GT(hull.byName("BB/Samples outside the hull"), 0) << path;
+        if (path.find("motion") != std::string::npos || path.find("defocus") != std::string::npos) {
+            EXPECT_LT(3 * hull.byName("BB/Samples tested"), 2 * box.byName("BB/Samples tested"))
+                << path << ": the hull ray-tests under two thirds of the box's samples";
+        }
+    }
 }
 
 // A triangle nearer than the near plane at both shutter ends is so at every time (linear motion,

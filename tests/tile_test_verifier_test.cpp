@@ -34,7 +34,7 @@ TEST(TileTestVerifier, EveryVariantAndCheckIsListedAndNeverRejectsFalsely) {
     }
     for (const char* name :
          {"patent-3d", "patent-3d-time", "patent-2dh", "patent-2dh-time", "patent-2d",
-          "patent-2d-time", "triangle-bbox", "interval-4", "interval-16", "dual-space",
+          "patent-2d-time", "triangle-bbox", "triangle-hull", "interval-4", "interval-16", "dual-space",
           "traversal-3d", "traversal-2dh", "traversal-2d", "branch-root", "branch-first-split",
           "branch-bitmask", "bounds-level-0", "bounds-level-3"})
         EXPECT_TRUE(names.count(name)) << name;
@@ -55,7 +55,9 @@ TEST(TileTestVerifier, TighterTestsAcceptFewerMissesAndNarrowerTimes) {
     const TileVerifierResult r = verify(4000, 7);
     for (CaseModel m : {CaseModel::Pinhole, CaseModel::Lens}) {
         const auto& bbox = find(r, "triangle-bbox", m);
+        const auto& hull = find(r, "triangle-hull", m);
         const auto& interval = find(r, "interval-16", m);
+        EXPECT_LT(hull.falseAccepts, bbox.falseAccepts) << caseModelName(m);
         const auto& patent = find(r, "patent-3d-time", m);
         const auto& spatial = find(r, "patent-3d", m);
         EXPECT_LT(interval.falseAccepts, bbox.falseAccepts) << caseModelName(m);

@@ -86,6 +86,7 @@ RenderOptions renderOptionsOf(const JobSettings& s) {
     o.memoryBudgetBytes = s.limits().memoryBudgetBytes;
     o.maxLayers = s.maxLayers;
     o.timeStrata = s.timeStrata;
+    parseTriangleBound(s.bboxBound, o.triangleBound);  // checked against the option's list
     o.postprocess.tileSize = s.ppTileSize;
     o.postprocess.samples = s.ppSamples;
     o.postprocess.softZExtent = s.softZExtent;

@@ -85,6 +85,11 @@ std::vector<JobOption> makeTable() {
           "one when nothing moves)")
             .in(0, 4096)
             .recordedAs("time_strata"));
+    t.push_back(O("--bbox-bound", kPerMethod, K::Name, &S::bboxBound,
+                  "triangle-bbox: the bound whose samples are ray-tested (hull: the convex hull of "
+                  "the moving, defocused triangle, as McGuire et al. 2010; box: its screen box)")
+                    .oneOf({"hull", "box"})
+                    .recordedAs("bbox_bound"));
     t.push_back(O("--pp-tile-size", kPerMethod, K::Integer, &S::ppTileSize,
                   "postprocess: TileMax tile size k in pixels (velocities are clamped to it)")
                     .in(1, 1024)

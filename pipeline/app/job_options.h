@@ -48,6 +48,7 @@ struct JobSettings {
     std::string method = "patch";
     int spp = 0, width = 0, height = 0;  // 0: the scene's own film
     int timeStrata = 0;
+    std::string bboxBound = "hull";
     int ppTileSize = PostprocessOptions{}.tileSize, ppSamples = PostprocessOptions{}.samples;
     float softZExtent = PostprocessOptions{}.softZExtent;
     float edgeThreshold = HybridOptions{}.edgeThreshold;

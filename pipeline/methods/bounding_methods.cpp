@@ -29,6 +29,7 @@ class BoundingFrame : public MethodFrame {
                                                 in_.samples->samplesPerPixel(), in_.effects.motion);
         if (bounding_ == Bounding::Interval)
             intervalTimeStrataCounter().raiseTo(options.timeStrata);
+        options.bound = in_.options->triangleBound;
         options.threads = in_.workers;
         options.partition = in_.partition;
         const std::vector<BoundingWork> work =

@@ -16,6 +16,7 @@
 #include "core/effects.h"
 #include "core/progress.h"
 #include "core/scene_reader.h"
+#include "rasterizer/baselines/bounding_rasterizer.h"
 #include "rasterizer/common/frame_partition.h"
 
 namespace patchsim {
@@ -39,8 +40,9 @@ struct RenderOptions {
     const VisibilityMethod* method = nullptr;  // null: the patch method
     EffectOverrides overrides;
     int threads = 0;
-    int maxLayers = 16;              // transparent t-fragments kept per sample
-    int timeStrata = 0;              // the interval method's K; 0: the film's samples per pixel
+    int maxLayers = 16;  // transparent t-fragments kept per sample
+    int timeStrata = 0;  // the interval method's K; 0: the film's samples per pixel
+    TriangleBound triangleBound = TriangleBound::Hull;  // triangle-bbox's bound
     PostprocessOptions postprocess;  // the postprocess and hybrid methods' filter
     float edgeThreshold = HybridOptions{}.edgeThreshold;  // the hybrid's ray mask: threshold e
     ReprojectionOptions reprojection;                     // the reprojection method's cameras

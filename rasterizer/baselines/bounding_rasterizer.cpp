@@ -6,6 +6,7 @@
 #include "core/counters.h"
 #include "core/parallel.h"
 #include "rasterizer/common/conservative_margins.h"
+#include "rasterizer/common/screen_hull.h"
 #include "rasterizer/common/watertight_triangle.h"
 #include "rasterizer/common/z_culling.h"
 
@@ -43,6 +44,19 @@ int intervalTimeStrata(int requested, int samplesPerPixel, bool motion) {
 
 const Counter& intervalTimeStrataCounter() {
     return kIntervalTimeStrata;
+}
+
+const char* triangleBoundName(TriangleBound bound) {
+    return bound == TriangleBound::Hull ? "hull" : "box";
+}
+
+bool parseTriangleBound(const std::string& name, TriangleBound& out) {
+    for (TriangleBound b : {TriangleBound::Hull, TriangleBound::Box})
+        if (name == triangleBoundName(b)) {
+            out = b;
+            return true;
+        }
+    return false;
 }
 
 const BoundingCounters& boundingCounters(Bounding m) {
@@ -123,7 +137,10 @@ class BandRasterizer {
         const int spp = t_.opaque->samplesPerPixel();
         switch (o_.method) {
             case Bounding::TriangleBBox:
-                testRect(mesh, tri, spanBounds(mesh, v, 0.0f, 1.0f, work), 0, spp, -1, work);
+                if (o_.bound == TriangleBound::Hull)
+                    hullBounds(mesh, tri, spp, work);
+                else
+                    testRect(mesh, tri, spanBounds(mesh, v, 0.0f, 1.0f, work), 0, spp, -1, work);
                 break;
             case Bounding::Interval:
                 for (int k = 0; k < o_.timeStrata; ++k) {
@@ -176,19 +193,53 @@ class BandRasterizer {
         return box.pixels(c_.camera);
     }
 
-    // Samples [s0, s1) of every pixel of `rect` in this band (of time stratum `stratum` if >= 0).
+    // McGuire et al.'s bound: the hull of the vertices' circles of confusion at both shutter ends,
+    // walked row by row; a sample of the pixels it reaches is ray-tested only inside it. A triangle
+    // reaching in front of the near plane, or whose hull has no area (seen edge-on), keeps the box.
+    void hullBounds(const MovingMesh& mesh, std::uint32_t tri, int spp, BoundingWork& work) const {
+        const std::uint32_t* v = &mesh.indices[3 * std::size_t(tri)];
+        ScreenBox box;
+        ScreenHull hull;
+        const float inverseFocus = c_.lens.radius > 0 ? 1.0f / c_.lens.focusDistance : 0.0f;
+        for (int k = 0; k < 3; ++k)
+            for (const Vec3& p : {mesh.position0[v[k]], mesh.position1[v[k]]}) {
+                box.addAcrossLens(p, c_.camera, c_.lens);
+                const float depth = -p.z;
+                hull.addBlurredPoint(
+                    double(p.x / depth), double(p.y / depth),
+                    double(c_.lens.radius * std::abs(1.0f / depth - inverseFocus)));
+            }
+        ++work.triangleSetups;
+        work.fullScreenBounds += box.fullScreen;
+        const bool useHull = !box.fullScreen && hull.build(double(kScreenBoundsMarginPixels) *
+                                                           screenUnitsPerPixel(c_.camera));
+        testRect(mesh, tri, box.pixels(c_.camera), 0, spp, -1, work, useHull ? &hull : nullptr);
+    }
+
+    // Samples [s0, s1) of every pixel of `rect` in this band (of time stratum `stratum` if >= 0;
+    // inside `hull` if given).
     void testRect(const MovingMesh& mesh, std::uint32_t tri, const PixelRect& rect, int s0, int s1,
-                  int stratum, BoundingWork& work) const {
+                  int stratum, BoundingWork& work, const ScreenHull* hull = nullptr) const {
         VisibilityBuffer& buffer = *t_.opaque;
         const bool everyHit = !mesh.opaque && t_.transparent != nullptr;
         const std::uint32_t* v = &mesh.indices[3 * std::size_t(tri)];
         for (int y = std::max(rect.y0, y0_); y < std::min(rect.y1, y1_); ++y) {
-            for (int x = rect.x0; x < rect.x1; ++x) {
+            int xBegin = rect.x0, xEnd = rect.x1;
+            if (hull != nullptr && !hullRow(*hull, y, xBegin, xEnd)) continue;
+            for (int x = xBegin; x < xEnd; ++x) {
                 for (int s = s0; s < s1; ++s) {
                     const std::size_t index = buffer.index(x, y, s);
                     if (stratum >= 0 && stratumOf(times_[index]) != stratum) continue;
+                    const Sample smp = c_.samples.sample(x, y, s);
+                    const Vec2 screen =
+                        rasterToScreen(c_.camera, Vec2(float(x), float(y)) + smp.pixelOffset);
+                    if (hull != nullptr && !hull->contains(screen)) {
+                        ++work.samplesOutsideHull;
+                        continue;
+                    }
                     ++work.samplesTested;
-                    Ray ray = sampleRay(c_, x, y, s);
+                    Ray ray = makeCameraRay(c_.camera, screen, concentricDisk(smp.lens), smp.time,
+                                            c_.lens);
                     ray.lambdaMax = rayEndAtDepth(buffer.depthBound(x, y, s), ray.depthPerLambda);
                     TriangleHit hit;
                     if (!intersectTriangle(shearRay(ray), mesh.vertexAt(v[0], ray.time),
@@ -196,7 +247,6 @@ class BandRasterizer {
                                            mesh.vertexAt(v[2], ray.time), ray.lambdaMin,
                                            ray.lambdaMax, hit))
                         continue;
-                    const Sample smp = c_.samples.sample(x, y, s);
                     VisibilityRecord record{hit.lambda * ray.depthPerLambda,
                                             mesh.patchId,
                                             tri,
@@ -215,6 +265,21 @@ class BandRasterizer {
                 }
             }
         }
+    }
+
+    // Narrows [xBegin, xEnd) to the pixels of row y that the hull reaches, as a rasterizer walks a
+    // polygon row by row; false when it reaches none.
+    bool hullRow(const ScreenHull& hull, int y, int& xBegin, int& xEnd) const {
+        const Camera& camera = c_.camera;
+        const double tanY = camera.tanHalfFovY(), tanX = tanY * camera.aspect();
+        const double w = camera.width(), h = camera.height();
+        const double top = (1.0 - 2.0 * y / h) * tanY, bottom = (1.0 - 2.0 * (y + 1) / h) * tanY;
+        double xa = 0, xb = 0;
+        if (!hull.xRangeInStrip(bottom, top, xa, xb)) return false;
+        const double rasterA = (xa / tanX + 1.0) * 0.5 * w, rasterB = (xb / tanX + 1.0) * 0.5 * w;
+        xBegin = std::max(xBegin, int(std::clamp(std::floor(rasterA), -1.0, w)));
+        xEnd = std::min(xEnd, int(std::clamp(std::floor(rasterB), -1.0, w)) + 1);
+        return xBegin < xEnd;
     }
 
     int stratumOf(float t) const {

@@ -4,7 +4,11 @@
 // ways to bound, sharing the rest:
 //
 // - triangle-bbox (Akenine-Moller et al. 2007; McGuire et al. 2010): the triangle's bounds over the
-//   whole shutter and the whole lens, so every sample of the pixels inside is tested.
+//   whole shutter and the whole lens. By default the bound is McGuire et al.'s convex hull of the
+//   vertices at both shutter ends, each widened by its circle of confusion (screen_hull.h),
+//   walked row by row as a rasterizer walks a polygon: a sample of the pixels it reaches is
+//   ray-tested only when it falls inside the hull (a 2D edge test, as a rasterizer's coverage
+//   test). With `TriangleBound::Box` every sample of the triangle's pixel box is ray-tested.
 // - interval (Fatahalian et al. 2009): the shutter split into K strata; per stratum the bounds of
 //   the triangle over that stratum, and only that stratum's samples tested.
 // - interleaved (accumulation buffer): sample index s has one time, lens point and sub-pixel shift
@@ -24,6 +28,7 @@
 // as the patch rasterizer and the reference for the same samples.
 
 #include <functional>
+#include <string>
 #include <vector>
 
 #include "core/camera.h"
@@ -38,6 +43,11 @@
 namespace patchsim {
 
 enum class Bounding : std::uint8_t { TriangleBBox, Interval, Interleaved };
+
+// triangle-bbox's bound: the convex hull of the moving, defocused triangle, or its screen box.
+enum class TriangleBound : std::uint8_t { Hull, Box };
+const char* triangleBoundName(TriangleBound bound);
+bool parseTriangleBound(const std::string& name, TriangleBound& out);
 
 // X(field, "Name", "unit", kind, "definition", charges...) (core/work_counts.h): one list, one
 // counter per method and field ("BB/", "IV/", "IL/" + name).
@@ -54,6 +64,10 @@ enum class Bounding : std::uint8_t { TriangleBBox, Interval, Interleaved };
     X(samplesTested, "Samples tested", "samples", Sum,                                           \
       "Sample-triangle pairs tested, one watertight ray-triangle test each", Op::SamplesTested,  \
       Op::RayTriangleTests)                                                                      \
+    X(samplesOutsideHull, "Samples outside the hull", "samples", Sum,                            \
+      "Samples of the pixels a triangle's hull bound reaches found outside the hull by its 2D "  \
+      "edge test, so not ray-tested (triangle-bbox with the hull bound)",                        \
+      Op::SamplesTested)                                                                         \
     X(visibilitySamples, "Visibility samples", "samples", Sum,                                   \
       "Tests that found a hit nearer than the sample's z-buffer entry", Op::DepthTests)          \
     X(transparentFragments, "Transparent fragments", "fragments", Sum,                           \
@@ -88,7 +102,8 @@ const Counter& intervalTimeStrataCounter();
 
 struct BoundingOptions {
     Bounding method = Bounding::TriangleBBox;
-    int timeStrata = 1;  // interval: K (intervalTimeStrata)
+    int timeStrata = 1;                         // interval: K (intervalTimeStrata)
+    TriangleBound bound = TriangleBound::Hull;  // triangle-bbox
     int threads = 0;
     // The bands of rows this process rasterizes.
     FramePartition partition;

@@ -2,6 +2,9 @@
 //
 // - triangle-bbox (Akenine-Moller et al. 2007; McGuire et al. 2010): the primitive's screen box
 //   over the whole shutter and lens; a tile inside it is accepted at every time.
+// - triangle-hull (McGuire et al. 2010): the convex hull of the primitive's vertices at both
+//   shutter ends, each widened by its circle of confusion (rasterizer/common/screen_hull.h, the
+//   bound the triangle-bbox method uses by default), against the tile by separating axes.
 // - interval-K (Fatahalian et al. 2009): the shutter in K strata, a screen box per stratum; the
 //   tile's time range is the hull of the strata whose box it overlaps.
 // - dual-space (Laine et al. 2011, "Clipless dual-space bounds for faster stochastic
@@ -19,6 +22,7 @@
 #include <cmath>
 
 #include "rasterizer/common/conservative_margins.h"
+#include "rasterizer/common/screen_hull.h"
 #include "rasterizer/patent/projected_bounds.h"
 #include "rasterizer/verifier/tile_test_variant.h"
 
@@ -51,6 +55,28 @@ class TriangleBBox : public TileTestVariant {
     TileTestOutput run(const TileTestInput& in) const override {
         const ScreenTile tile = makeScreenTile(*in.camera, in.tile, in.camera->farPlane());
         return {spanOverlapsTile(in, tile, 0.0f, 1.0f)};
+    }
+};
+
+class TriangleHull : public TileTestVariant {
+  public:
+    std::string name() const override { return "triangle-hull"; }
+    TileTestOutput run(const TileTestInput& in) const override {
+        const ScreenTile tile = makeScreenTile(*in.camera, in.tile, in.camera->farPlane());
+        const float inverseFocus = in.lens.radius > 0 ? 1.0f / in.lens.focusDistance : 0.0f;
+        ScreenHull hull;
+        for (const Box3* box : {&in.box.bounds0, &in.box.bounds1})
+            for (int c = 0; c < 8; ++c) {
+                const Vec3 p = box->corner(c);
+                const float depth = -p.z;
+                if (!(depth >= in.camera->nearPlane())) return {true};  // no finite projection
+                hull.addBlurredPoint(
+                    double(p.x / depth), double(p.y / depth),
+                    double(in.lens.radius * std::abs(1.0f / depth - inverseFocus)));
+            }
+        const double margin = double(kScreenBoundsMarginPixels) * screenUnitsPerPixel(*in.camera);
+        if (!hull.build(margin)) return {spanOverlapsTile(in, tile, 0.0f, 1.0f)};
+        return {hull.overlapsRect(tile.x0, tile.y0, tile.x1, tile.y1)};
     }
 };
 
@@ -170,6 +196,7 @@ class DualSpaceBounds : public TileTestVariant {
 
 void addLiteratureTileTests(std::vector<std::unique_ptr<TileTestVariant>>& out) {
     out.push_back(std::make_unique<TriangleBBox>());
+    out.push_back(std::make_unique<TriangleHull>());
     out.push_back(std::make_unique<IntervalBounds>(4));
     out.push_back(std::make_unique<IntervalBounds>(16));
     out.push_back(std::make_unique<DualSpaceBounds>());
