@@ -19,6 +19,8 @@ where the patch method is SIMD: docs/ACCURACY.md), cycles are the modelled hardw
 (docs/HARDWARE.md) and do not depend on the machine.
 
 usage: scripts/crossover-map.py OUT [--scenes S...] [--blur B...] [--spp N...] [--hw FILE]
+       scripts/crossover-map.py OUT --results RESULTS.csv...   (tables and map from sweeps run
+                                                                before, e.g. with other blurs)
 """
 
 import argparse
@@ -32,8 +34,24 @@ METHODS = ["patch", "interval", "triangle-bbox"]
 COLOURS = {"patch": "#3b75af", "interval": "#ef8636", "triangle-bbox": "#519e3e"}
 
 
-def run_sweeps(args, out):
+def read_results(paths):
     rows = []
+    for path in paths:
+        with open(path) as f:
+            for row in csv.DictReader(f):
+                if row["method"] not in METHODS:
+                    continue
+                name, _, blur = row["scene"].rpartition("-blur")
+                if not name:  # blur 1 keeps the scene's own name
+                    name, blur = row["scene"], "1"
+                rows.append({"scene": name, "blur": float(blur), "spp": int(row["spp"]),
+                             "method": row["method"], "cycles": float(row["modelled_cycles"]),
+                             "wall": float(row["wall_seconds"])})
+    return rows
+
+
+def run_sweeps(args, out):
+    results = []
     for scene in args.scenes:
         folder = out / "sweeps" / pathlib.Path(scene).stem
         command = [args.patchsim, "sweep", str(ROOT / scene), "--methods", ",".join(METHODS),
@@ -44,13 +62,8 @@ def run_sweeps(args, out):
             command += ["--hw", args.hw]
         print(" ".join(command), file=sys.stderr)
         subprocess.run(command, check=True)
-        with open(folder / "results.csv") as f:
-            for row in csv.DictReader(f):
-                name, _, blur = row["scene"].rpartition("-blur")
-                rows.append({"scene": name, "blur": float(blur), "spp": int(row["spp"]),
-                             "method": row["method"], "cycles": float(row["modelled_cycles"]),
-                             "wall": float(row["wall_seconds"])})
-    return rows
+        results.append(folder / "results.csv")
+    return read_results(results)
 
 
 def cells(rows):
@@ -92,21 +105,22 @@ def write_csv(table, path):
 
 
 def write_markdown(table, args, path):
-    lines = ["| scene | spp | cheapest in modelled cycles, by blur (" +
-             ", ".join(f"x{b:g}" for b in args.blur) + ") | patch / cheapest other (cycles) | "
-             "crossover blur (cycles) | cheapest in wall time, by blur | crossover blur (wall) |",
-             "|---|---|---|---|---|---|---|"]
+    lines = ["| scene | spp | blur scales | cheapest in modelled cycles, by blur | "
+             "patch / cheapest other (cycles) | crossover blur (cycles) | "
+             "cheapest in wall time, by blur | crossover blur (wall) |",
+             "|---|---|---|---|---|---|---|---|"]
     short = {"patch": "P", "interval": "I", "triangle-bbox": "B"}
     for scene in dict.fromkeys(c["scene"] for c in table):
         of_scene = [c for c in table if c["scene"] == scene]
-        for spp in args.spp:
+        for spp in sorted({c["spp"] for c in of_scene}):
             row = sorted((c for c in of_scene if c["spp"] == spp), key=lambda c: c["blur"])
+            blurs = " ".join(f"x{c['blur']:g}" for c in row)
             by_cycles = " ".join(short[c["cheapest_cycles"]] for c in row)
             ratios = " ".join(f"{c['patch_over_best_other_cycles']:.2f}" for c in row)
             by_wall = " ".join(short[c["cheapest_wall"]] for c in row)
             cross = crossover(of_scene, spp)
             cross_wall = crossover(of_scene, spp, "wall")
-            lines.append(f"| {scene} | {spp} | {by_cycles} | {ratios} | "
+            lines.append(f"| {scene} | {spp} | {blurs} | {by_cycles} | {ratios} | "
                          f"{'x%g' % cross if cross is not None else 'none'} | {by_wall} | "
                          f"{'x%g' % cross_wall if cross_wall is not None else 'none'} |")
     lines.append("")
@@ -126,18 +140,21 @@ def plot(table, args, out):
         print("matplotlib missing: no plot (python3-matplotlib)", file=sys.stderr)
         return
     scenes = list(dict.fromkeys(c["scene"] for c in table))
+    blurs = sorted({c["blur"] for c in table})
+    spps = sorted({c["spp"] for c in table})
     fig, axes = plt.subplots(1, len(scenes), figsize=(3.2 * len(scenes), 3.4), squeeze=False)
     for ax, scene in zip(axes[0], scenes):
         for c in (c for c in table if c["scene"] == scene):
-            x, y = args.blur.index(c["blur"]), args.spp.index(c["spp"])
+            x, y = blurs.index(c["blur"]), spps.index(c["spp"])
             ax.add_patch(plt.Rectangle((x - 0.5, y - 0.5), 1, 1,
                                        color=COLOURS[c["cheapest_cycles"]], alpha=0.85))
             ax.text(x, y, f"{c['patch_over_best_other_cycles']:.2f}", ha="center", va="center",
                     fontsize=8, color="white")
-        ax.set_xlim(-0.5, len(args.blur) - 0.5)
-        ax.set_ylim(-0.5, len(args.spp) - 0.5)
-        ax.set_xticks(range(len(args.blur)), [f"x{b:g}" for b in args.blur])
-        ax.set_yticks(range(len(args.spp)), [str(s) for s in args.spp])
+        ax.set_facecolor("#dddddd")  # grey: not swept
+        ax.set_xlim(-0.5, len(blurs) - 0.5)
+        ax.set_ylim(-0.5, len(spps) - 0.5)
+        ax.set_xticks(range(len(blurs)), [f"x{b:g}" for b in blurs])
+        ax.set_yticks(range(len(spps)), [str(s) for s in spps])
         ax.set_xlabel("blur scale (motion and aperture)")
         ax.set_title(scene)
     axes[0][0].set_ylabel("samples per pixel")
@@ -161,10 +178,13 @@ def main():
     parser.add_argument("--spp", nargs="+", type=int, default=[1, 4, 16])
     parser.add_argument("--hw", default="")
     parser.add_argument("--patchsim", default=str(ROOT / "build/pipeline/app/patchsim"))
+    parser.add_argument("--results", nargs="+", default=[],
+                        help="results.csv files of sweeps already run: no new sweep")
     args = parser.parse_args()
     out = pathlib.Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
-    table = cells(run_sweeps(args, out))
+    rows = read_results(args.results) if args.results else run_sweeps(args, out)
+    table = cells(rows)
     write_csv(table, out / "crossover.csv")
     write_markdown(table, args, out / "crossover.md")
     plot(table, args, out)

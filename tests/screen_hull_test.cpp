@@ -66,7 +66,50 @@ TEST(ScreenHull, RefusesPointsBeyondItsCapacity) {
     for (int k = 0; k < ScreenHull::kMaxPoints / ScreenHull::kPointsPerBlurredPoint; ++k)
         EXPECT_TRUE(hull.addBlurredPoint(k, k * k, 0.5));
     EXPECT_FALSE(hull.addBlurredPoint(0.0, 0.0, 0.5));
-    EXPECT_FALSE(hull.addBlurredPoint(0.0, 0.0, 0.0));
+    EXPECT_FALSE(hull.build(0.0)) << "a refused point leaves no hull";
+}
+
+// A number that is not finite never reaches the sort; the hull is refused and the caller keeps
+// its box.
+TEST(ScreenHull, RefusesNumbersThatAreNotFinite) {
+    for (double bad : {double(NAN), double(INFINITY)}) {
+        ScreenHull hull;
+        hull.addBlurredPoint(0.0, 0.0, 0.1);
+        hull.addBlurredPoint(1.0, 0.0, 0.1);
+        EXPECT_FALSE(hull.addBlurredPoint(bad, 1.0, 0.0));
+        EXPECT_FALSE(hull.build(0.01));
+        ScreenHull spread;
+        spread.addBlurredPoint(0.0, 0.0, 0.1);
+        EXPECT_FALSE(spread.addBlurredPoint(1.0, 1.0, bad));
+        EXPECT_FALSE(spread.build(0.01));
+    }
+}
+
+// Walking a hull row by row finds every point inside it: random hulls, random points of them,
+// each point's row range holds it.
+TEST(ScreenHull, RowRangesHoldEveryPointOfRandomHulls) {
+    std::mt19937 rng(5);
+    std::uniform_real_distribution<double> u(0.0, 1.0);
+    for (int trial = 0; trial < 300; ++trial) {
+        ScreenHull hull;
+        double px[6], py[6];
+        for (int k = 0; k < 6; ++k) {
+            px[k] = 4 * u(rng) - 2, py[k] = 4 * u(rng) - 2;
+            hull.addBlurredPoint(px[k], py[k], trial % 2 ? 0.0 : 0.3 * u(rng));
+        }
+        if (!hull.build(1e-4)) continue;
+        for (int s = 0; s < 200; ++s) {
+            double w[6], sum = 0, x = 0, y = 0;
+            for (double& wk : w) sum += wk = -std::log(u(rng) + 1e-300);
+            for (int k = 0; k < 6; ++k) x += w[k] / sum * px[k], y += w[k] / sum * py[k];
+            ASSERT_TRUE(hull.contains(Vec2(float(x), float(y))));
+            const double row = std::floor(y * 8) / 8;  // rows an eighth high
+            double xa = 0, xb = 0;
+            ASSERT_TRUE(hull.xRangeInStrip(row, row + 0.125, xa, xb)) << trial << " " << s;
+            EXPECT_LE(xa, x) << trial << " " << s;
+            EXPECT_GE(xb, x) << trial << " " << s;
+        }
+    }
 }
 
 TEST(ScreenHull, RectanglesSeparatedByAHullEdgeAreRejected) {

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <utility>
 
 #include "core/counters.h"
 #include "core/parallel.h"
@@ -121,11 +122,72 @@ struct ScreenBox {
     }
 };
 
+// A band's samples, made once before its triangles, as the patch method keeps its tile rays:
+// the generator's hashing and permutations cost more than the ray-triangle test they would feed,
+// and a sample is tested against every triangle whose bound holds it. For the interval method
+// each pixel's samples are also listed in order of time stratum, so a stratum's samples are a
+// range found by binary search, not a scan of the pixel's samples once per stratum.
+struct BandSamples {
+    struct Prepared {
+        Vec2 screen;    // on the z = -1 plane
+        Vec2 lensDisk;  // the lens sample on the unit disk
+        Vec2 lens;      // the lens sample in [0,1)^2, for the record
+        float time;
+    };
+    std::vector<Prepared> prepared;        // (row - y0, x, s), like the buffer's order
+    std::vector<std::uint16_t> byStratum;  // per pixel, spp sample indices in order of stratum
+    std::vector<std::uint16_t> stratum;    // the stratum of each of those
+
+    BandSamples(const RayCaster& c, int width, int spp, int y0, int y1, int strata) {
+        prepared.resize(std::size_t(y1 - y0) * std::size_t(width) * std::size_t(spp));
+        for (int y = y0; y < y1; ++y)
+            for (int x = 0; x < width; ++x)
+                for (int s = 0; s < spp; ++s) {
+                    const Sample smp = c.samples.sample(x, y, s);
+                    prepared[index(y - y0, x, s, width, spp)] = {
+                        rasterToScreen(c.camera, Vec2(float(x), float(y)) + smp.pixelOffset),
+                        concentricDisk(smp.lens), smp.lens, smp.time};
+                }
+        if (strata > 0) orderByStratum(spp, strata);
+    }
+    static std::size_t index(int row, int x, int s, int width, int spp) {
+        return (std::size_t(row) * std::size_t(width) + std::size_t(x)) * std::size_t(spp) +
+               std::size_t(s);
+    }
+
+  private:
+    void orderByStratum(int spp, int strata) {
+        byStratum.resize(prepared.size());
+        stratum.resize(prepared.size());
+        std::vector<std::pair<std::uint16_t, std::uint16_t>> pixel(static_cast<std::size_t>(spp));
+        for (std::size_t base = 0; base < prepared.size(); base += std::size_t(spp)) {
+            for (int s = 0; s < spp; ++s) {
+                const float t = prepared[base + std::size_t(s)].time;
+                const int k = std::min(int(t * float(strata)), strata - 1);
+                pixel[std::size_t(s)] = {std::uint16_t(k), std::uint16_t(s)};
+            }
+            std::sort(pixel.begin(), pixel.end());
+            for (int s = 0; s < spp; ++s) {
+                stratum[base + std::size_t(s)] = pixel[std::size_t(s)].first;
+                byStratum[base + std::size_t(s)] = pixel[std::size_t(s)].second;
+            }
+        }
+    }
+};
+
 class BandRasterizer {
   public:
     BandRasterizer(const RayCaster& caster, const VisibilityTargets& targets,
-                   const BoundingOptions& options, const std::vector<float>& times, int y0, int y1)
-        : c_(caster), t_(targets), o_(options), times_(times), y0_(y0), y1_(y1) {}
+                   const BoundingOptions& options, int y0, int y1)
+        : c_(caster),
+          t_(targets),
+          o_(options),
+          y0_(y0),
+          y1_(y1),
+          width_(targets.opaque->width()),
+          spp_(targets.opaque->samplesPerPixel()),
+          samples_(caster, width_, spp_, y0, y1,
+                   options.method == Bounding::Interval ? options.timeStrata : 0) {}
 
     void triangle(const MovingMesh& mesh, std::uint32_t tri, BoundingWork& work) const {
         const std::uint32_t* v = &mesh.indices[3 * std::size_t(tri)];
@@ -199,20 +261,24 @@ class BandRasterizer {
     void hullBounds(const MovingMesh& mesh, std::uint32_t tri, int spp, BoundingWork& work) const {
         const std::uint32_t* v = &mesh.indices[3 * std::size_t(tri)];
         ScreenBox box;
+        for (int k = 0; k < 3; ++k) {
+            box.addAcrossLens(mesh.position0[v[k]], c_.camera, c_.lens);
+            box.addAcrossLens(mesh.position1[v[k]], c_.camera, c_.lens);
+        }
+        ++work.triangleSetups;
+        work.fullScreenBounds += box.fullScreen;
         ScreenHull hull;
+        bool useHull = !box.fullScreen;  // else some vertex has no finite projection
         const float inverseFocus = c_.lens.radius > 0 ? 1.0f / c_.lens.focusDistance : 0.0f;
-        for (int k = 0; k < 3; ++k)
+        for (int k = 0; k < 3 && useHull; ++k)
             for (const Vec3& p : {mesh.position0[v[k]], mesh.position1[v[k]]}) {
-                box.addAcrossLens(p, c_.camera, c_.lens);
                 const float depth = -p.z;
                 hull.addBlurredPoint(
                     double(p.x / depth), double(p.y / depth),
                     double(c_.lens.radius * std::abs(1.0f / depth - inverseFocus)));
             }
-        ++work.triangleSetups;
-        work.fullScreenBounds += box.fullScreen;
-        const bool useHull = !box.fullScreen && hull.build(double(kScreenBoundsMarginPixels) *
-                                                           screenUnitsPerPixel(c_.camera));
+        useHull = useHull &&
+                  hull.build(double(kScreenBoundsMarginPixels) * screenUnitsPerPixel(c_.camera));
         testRect(mesh, tri, box.pixels(c_.camera), 0, spp, -1, work, useHull ? &hull : nullptr);
     }
 
@@ -220,50 +286,52 @@ class BandRasterizer {
     // inside `hull` if given).
     void testRect(const MovingMesh& mesh, std::uint32_t tri, const PixelRect& rect, int s0, int s1,
                   int stratum, BoundingWork& work, const ScreenHull* hull = nullptr) const {
-        VisibilityBuffer& buffer = *t_.opaque;
-        const bool everyHit = !mesh.opaque && t_.transparent != nullptr;
-        const std::uint32_t* v = &mesh.indices[3 * std::size_t(tri)];
         for (int y = std::max(rect.y0, y0_); y < std::min(rect.y1, y1_); ++y) {
             int xBegin = rect.x0, xEnd = rect.x1;
             if (hull != nullptr && !hullRow(*hull, y, xBegin, xEnd)) continue;
             for (int x = xBegin; x < xEnd; ++x) {
-                for (int s = s0; s < s1; ++s) {
-                    const std::size_t index = buffer.index(x, y, s);
-                    if (stratum >= 0 && stratumOf(times_[index]) != stratum) continue;
-                    const Sample smp = c_.samples.sample(x, y, s);
-                    const Vec2 screen =
-                        rasterToScreen(c_.camera, Vec2(float(x), float(y)) + smp.pixelOffset);
-                    if (hull != nullptr && !hull->contains(screen)) {
-                        ++work.samplesOutsideHull;
-                        continue;
-                    }
-                    ++work.samplesTested;
-                    Ray ray = makeCameraRay(c_.camera, screen, concentricDisk(smp.lens), smp.time,
-                                            c_.lens);
-                    ray.lambdaMax = rayEndAtDepth(buffer.depthBound(x, y, s), ray.depthPerLambda);
-                    TriangleHit hit;
-                    if (!intersectTriangle(shearRay(ray), mesh.vertexAt(v[0], ray.time),
-                                           mesh.vertexAt(v[1], ray.time),
-                                           mesh.vertexAt(v[2], ray.time), ray.lambdaMin,
-                                           ray.lambdaMax, hit))
-                        continue;
-                    VisibilityRecord record{hit.lambda * ray.depthPerLambda,
-                                            mesh.patchId,
-                                            tri,
-                                            hit.b1,
-                                            hit.b2,
-                                            smp.time,
-                                            smp.lens};
-                    if (everyHit) {
-                        ++work.transparentFragments;
-                        if (!t_.transparent->offer(index, t_.pool, {record, mesh.objectId}))
-                            ++work.transparentOverflow;
-                    } else if (record.nearerThan(buffer.at(x, y, s))) {
-                        ++work.visibilitySamples;
-                        buffer.at(x, y, s) = record;
-                    }
+                if (stratum < 0) {
+                    for (int s = s0; s < s1; ++s) testSample(mesh, tri, x, y, s, hull, work);
+                    continue;
                 }
+                const std::size_t base = BandSamples::index(y - y0_, x, 0, width_, spp_);
+                const auto first = samples_.stratum.begin() + std::ptrdiff_t(base);
+                const auto [lo, hi] = std::equal_range(first, first + spp_, std::uint16_t(stratum));
+                for (auto it = lo; it != hi; ++it)
+                    testSample(mesh, tri, x, y, samples_.byStratum[base + std::size_t(it - first)],
+                               hull, work);
             }
+        }
+    }
+
+    // Sample s of pixel (x, y) against the triangle (if inside `hull`, when given).
+    void testSample(const MovingMesh& mesh, std::uint32_t tri, int x, int y, int s,
+                    const ScreenHull* hull, BoundingWork& work) const {
+        VisibilityBuffer& buffer = *t_.opaque;
+        const BandSamples::Prepared& smp =
+            samples_.prepared[BandSamples::index(y - y0_, x, s, width_, spp_)];
+        if (hull != nullptr && !hull->contains(smp.screen)) {
+            ++work.samplesOutsideHull;
+            return;
+        }
+        ++work.samplesTested;
+        Ray ray = makeCameraRay(c_.camera, smp.screen, smp.lensDisk, smp.time, c_.lens);
+        ray.lambdaMax = rayEndAtDepth(buffer.depthBound(x, y, s), ray.depthPerLambda);
+        const std::uint32_t* v = &mesh.indices[3 * std::size_t(tri)];
+        TriangleHit hit;
+        if (!intersectTriangle(shearRay(ray), mesh.vertexAt(v[0], ray.time),
+                               mesh.vertexAt(v[1], ray.time), mesh.vertexAt(v[2], ray.time),
+                               ray.lambdaMin, ray.lambdaMax, hit))
+            return;
+        const VisibilityRecord record{
+            hit.lambda * ray.depthPerLambda, mesh.patchId, tri, hit.b1, hit.b2, smp.time, smp.lens};
+        if (!mesh.opaque && t_.transparent != nullptr) {
+            ++work.transparentFragments;
+            if (!t_.transparent->offer(buffer.index(x, y, s), t_.pool, {record, mesh.objectId}))
+                ++work.transparentOverflow;
+        } else if (record.nearerThan(buffer.at(x, y, s))) {
+            ++work.visibilitySamples;
+            buffer.at(x, y, s) = record;
         }
     }
 
@@ -282,15 +350,12 @@ class BandRasterizer {
         return xBegin < xEnd;
     }
 
-    int stratumOf(float t) const {
-        return std::min(int(t * float(o_.timeStrata)), o_.timeStrata - 1);
-    }
-
     const RayCaster& c_;
     const VisibilityTargets& t_;
     const BoundingOptions& o_;
-    const std::vector<float>& times_;
     int y0_, y1_;
+    int width_, spp_;
+    BandSamples samples_;
 };
 
 }  // namespace
@@ -324,15 +389,6 @@ std::vector<BoundingWork> rasterizeByBounds(const std::vector<MovingMesh>& meshe
                                             const VisibilityTargets& targets,
                                             const BoundingOptions& options) {
     const VisibilityBuffer& buffer = *targets.opaque;
-    // Each sample's time once, for the interval method's strata.
-    std::vector<float> times;
-    if (options.method == Bounding::Interval) {
-        times.resize(buffer.records().size());
-        for (int y = 0; y < buffer.height(); ++y)
-            for (int x = 0; x < buffer.width(); ++x)
-                for (int s = 0; s < buffer.samplesPerPixel(); ++s)
-                    times[buffer.index(x, y, s)] = caster.samples.sample(x, y, s).time;
-    }
     // Bands of rows in fixed slots, like the patch method's row classes: the same work and image
     // for any thread count. Each band sets its triangles up again; only band 0 counts the setups.
     constexpr int kBands = FramePartition::kClasses;
@@ -345,7 +401,7 @@ std::vector<BoundingWork> rasterizeByBounds(const std::vector<MovingMesh>& meshe
                   y1 = FramePartition::bandBegin(int(band) + 1, height);
         VisibilityTargets mine = targets;
         mine.pool = int(band);
-        const BandRasterizer rasterizer(caster, mine, options, times, y0, y1);
+        const BandRasterizer rasterizer(caster, mine, options, y0, y1);
         for (std::size_t i = 0; i < meshes.size(); ++i) {
             BoundingWork& work = bandWork[band][i];
             for (std::uint32_t tri = 0; tri < meshes[i].triangleCount(); ++tri)

@@ -7,7 +7,11 @@ namespace patchsim {
 
 bool ScreenHull::addBlurredPoint(double x, double y, double spread) {
     const int needed = spread > 0 ? kPointsPerBlurredPoint : 1;
-    if (count_ + needed > kMaxPoints) return false;
+    if (count_ + needed > kMaxPoints || !std::isfinite(x) || !std::isfinite(y) ||
+        !std::isfinite(spread)) {
+        refused_ = true;  // a NaN must never reach the sort
+        return false;
+    }
     if (needed == 1) {
         points_[std::size_t(count_++)] = {x, y};
         return true;
@@ -18,13 +22,16 @@ bool ScreenHull::addBlurredPoint(double x, double y, double spread) {
 }
 
 bool ScreenHull::build(double margin) {
+    corners_ = 0;
+    if (refused_) return false;
     auto* first = points_.data();
     auto* last = first + count_;
     std::sort(first, last, [](const Point& a, const Point& b) {
         return a.x < b.x || (a.x == b.x && a.y < b.y);
     });
     // Andrew's monotone chain: lower hull left to right, upper hull right to left, keeping only
-    // left turns (collinear points dropped).
+    // left turns (collinear points dropped). The stack holds the lower hull and the upper chain
+    // of the points left, which share at most one point: at most count_ + 1 entries.
     auto cross = [](const Point& o, const Point& a, const Point& b) {
         return (a.x - o.x) * (b.y - o.y) - (a.y - o.y) * (b.x - o.x);
     };

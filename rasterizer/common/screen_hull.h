@@ -36,18 +36,22 @@ class ScreenHull {
 
     // A point seen through the whole lens: its pinhole image (x, y) and the half-side `spread` of
     // the square its images fill (R |1/F - 1/depth|; 0: the point alone). False when the hull is
-    // full.
+    // full or a number is not finite (then `build` fails too).
     bool addBlurredPoint(double x, double y, double spread);
-    // The hull of the points added, widened by `margin` (screen units). False when it has no area
-    // (fewer than three corners): the caller keeps a box for such a primitive.
+    // The hull of the points added, widened by `margin` (screen units): each edge moved out by it,
+    // so `contains` and `overlapsRect` test the mitred offset polygon. False when it has no area
+    // (fewer than three corners) or a point was refused: the caller keeps a box for such a
+    // primitive.
     bool build(double margin);
 
     bool contains(Vec2 p) const;
     // Separating axes: the rectangle's two and each hull edge's normal.
     bool overlapsRect(double x0, double y0, double x1, double y1) const;
 
-    // The x extent of the hull's points with y in [ya, yb], both widened by the margin: where a
-    // rasterizer walking the hull row by row visits. False when the strip misses the hull.
+    // The x extent of the hull's points with y in [ya, yb], the strip and the extent each widened
+    // by the margin (which holds every point within the margin of the hull, if not the mitred
+    // polygon's sharpest tips): where a rasterizer walking the hull row by row visits. False when
+    // the strip misses the hull.
     bool xRangeInStrip(double ya, double yb, double& xa, double& xb) const;
 
     int cornerCount() const { return corners_; }
@@ -62,10 +66,13 @@ class ScreenHull {
     struct EdgeLine {
         double nx, ny, c;  // inside: nx x + ny y <= c
     };
-    std::array<Point, kMaxPoints> points_{};
-    std::array<Point, kMaxPoints + 1> hull_{};
-    std::array<EdgeLine, kMaxPoints> edges_{};
+    // Filled before they are read (count_, corners_), so left uninitialised: a hull is made per
+    // triangle.
+    std::array<Point, kMaxPoints> points_;
+    std::array<Point, kMaxPoints + 1> hull_;  // the chain repeats its first point at the end
+    std::array<EdgeLine, kMaxPoints> edges_;
     int count_ = 0, corners_ = 0;
+    bool refused_ = false;
     double margin_ = 0;
     double lo_[2] = {0, 0}, hi_[2] = {0, 0};  // bounds, with the margin
 };
