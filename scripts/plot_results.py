@@ -90,6 +90,19 @@ def read_rows(path):
         return list(csv.DictReader(f))
 
 
+def run_name(row):
+    """A method at its setting, as the legends show it: "interval time-strata=16"."""
+    setting = row.get("setting", "")
+    return f"{row['method']} {setting}" if setting else row["method"]
+
+
+def image_label(row):
+    """The method and setting as patchsim names the run's image (SweepVariant::label)."""
+    setting = row.get("setting", "")
+    text = f"{row['method']}-{setting}" if setting else row["method"]
+    return re.sub(r"[^A-Za-z0-9._-]", "_", text)
+
+
 def in_order(values):
     return list(dict.fromkeys(values))
 
@@ -118,7 +131,7 @@ def pareto(points):
 
 
 def plot_scene(scene, rows, out_dir):
-    methods = in_order(r["method"] for r in rows)
+    methods = in_order(run_name(r) for r in rows)
     fig, axes = plt.subplots(2, 2, figsize=(12, 9))
     panels = [
         ("wall_seconds", "psnr", "wall time (s)", "PSNR (dB, higher is better)"),
@@ -129,7 +142,7 @@ def plot_scene(scene, rows, out_dir):
     for ax, (xkey, ykey, xlabel, ylabel) in zip(axes.flat, panels):
         everything = []
         for k, method in enumerate(methods):
-            mine = sorted((r for r in rows if r["method"] == method), key=lambda r: int(r["spp"]))
+            mine = sorted((r for r in rows if run_name(r) == method), key=lambda r: int(r["spp"]))
             xs = [float(r[xkey]) for r in mine]
             ys = [float(r[ykey]) if math.isfinite(float(r[ykey])) else np.nan for r in mine]
             ax.plot(xs, ys, marker=MARKERS[k % len(MARKERS)], label=method)
@@ -157,9 +170,10 @@ def plot_scene(scene, rows, out_dir):
 
 def crop_sheet(scene, rows, images_dir, out_dir, size=48):
     converged = mpimg.imread(os.path.join(images_dir, f"{scene}-converged.png"))[..., :3]
-    runs = [(r["method"], int(r["spp"])) for r in rows]
-    pictures = {(m, s): mpimg.imread(os.path.join(images_dir, f"{scene}-{m}-{s}.png"))[..., :3]
-                for m, s in runs}
+    runs = [(run_name(r), int(r["spp"])) for r in rows]
+    pictures = {(run_name(r), int(r["spp"])):
+                mpimg.imread(os.path.join(images_dir, f"{scene}-{image_label(r)}-{r['spp']}.png"))[..., :3]
+                for r in rows}
     h, w = converged.shape[:2]
     size = min(size, h, w)
     # Where the runs disagree most with the converged image: the crop with the largest summed error.

@@ -5,6 +5,7 @@
 #include <tuple>
 
 #include "core/counters.h"
+#include "core/error.h"
 #include "core/scene_reader.h"
 #include "pipeline/driver/render.h"
 #include "tests/render_compare.h"
@@ -41,6 +42,7 @@ TEST(BoundingRasterizer, TriangleBBoxAndIntervalEqualThePatchMethodSampleForSamp
         const VisibilityMethod* interval = &methodNamed("interval");
         for (auto [method, strata, bound] :
              {std::tuple{bbox, 0, TriangleBound::Hull}, std::tuple{bbox, 0, TriangleBound::Box},
+              std::tuple{bbox, 0, TriangleBound::OrientedBox},
               std::tuple{interval, 0, TriangleBound::Hull},
               std::tuple{interval, 1, TriangleBound::Hull},
               std::tuple{interval, 7, TriangleBound::Hull}}) {
@@ -192,7 +194,8 @@ TEST(BoundingRasterizer, TighterBoundsTestFewerSamplesAndThePatchMethodGainsWith
 
 // The hull bound (McGuire et al.) visits the pixels the hull reaches, a subset of the box's, and
 // ray-tests only the samples inside it: on every shipped scene its visits are at most the box's
-// tests, its image is the same, and with motion or defocus it ray-tests under two thirds.
+// tests, its image is the same, and with motion or defocus it ray-tests under two thirds. The
+// oriented box ray-tests no fewer than the hull and no more than the box.
 TEST(BoundingRasterizer, TheHullBoundRayTestsASubsetOfTheBoxSamples) {
     const VisibilityMethod* bbox = &methodNamed("triangle-bbox");
     for (const std::string& path : test::sceneFiles()) {
@@ -210,6 +213,14 @@ TEST(BoundingRasterizer, TheHullBoundRayTestsASubsetOfTheBoxSamples) {
         EXPECT_EQ(box.byName("BB/Visibility samples"), hull.byName("BB/Visibility samples"))
             << path;
         EXPECT_GT(hull.byName("BB/Samples outside the hull"), 0) << path;
+        // The least-area rectangle holding the hull: between the two, with the same image.
+        CounterRegistry::instance().reset();
+        renderWith(scene, bbox, 0, TriangleBound::OrientedBox);
+        const CounterValues oriented = CounterRegistry::instance().snapshot();
+        EXPECT_LE(hull.byName("BB/Samples tested"), oriented.byName("BB/Samples tested")) << path;
+        EXPECT_LE(oriented.byName("BB/Samples tested"), box.byName("BB/Samples tested")) << path;
+        EXPECT_EQ(oriented.byName("BB/Visibility samples"), hull.byName("BB/Visibility samples"))
+            << path;
         if (path.find("motion") != std::string::npos || path.find("defocus") != std::string::npos) {
             EXPECT_LT(3 * hull.byName("BB/Samples tested"), 2 * box.byName("BB/Samples tested"))
                 << path << ": the hull ray-tests under two thirds of the box's samples";
@@ -261,6 +272,34 @@ TEST(BoundingRasterizer, TrianglesBehindTheCameraAtBothEndsAreCulledWithoutATest
             test::compare(method == &methodNamed("interleaved") ? patchInterleaved : patch, result);
         EXPECT_GT(cmp.hits, 0u) << name;
         EXPECT_EQ(cmp.mismatches, 0u) << name;
+    }
+}
+
+// The samples each band prepares ahead count against the memory budget with the film: a render
+// whose film fits but whose bands' samples do not is refused before it starts, naming film.spp.
+TEST(BoundingRasterizer, TheBandsPreparedSamplesCountAgainstTheMemoryBudget) {
+    const SceneDesc scene = small("scenes/motion.json");  // 48 x 36 at 4 spp: 16 bands of 2-3 rows
+    EXPECT_EQ(boundingBandScratchBytes(48, 36, 4, Bounding::TriangleBBox, 2),
+              2u * 3u * 48u * 4u * 28u);
+    EXPECT_EQ(boundingBandScratchBytes(48, 36, 4, Bounding::Interval, 64),
+              16u * 3u * 48u * 4u * 32u)
+        << "no more bands at once than there are bands";
+    for (const char* name : {"triangle-bbox", "interval", "interleaved"}) {
+        const VisibilityMethod& method = methodNamed(name);
+        const Bounding bounding =
+            std::string(name) == "interval" ? Bounding::Interval : Bounding::TriangleBBox;
+        RenderOptions options;
+        options.method = &method;
+        options.memoryBudgetBytes =
+            filmBytes(scene.film) + boundingBandScratchBytes(48, 36, 4, bounding, 2);
+        EXPECT_NO_THROW(method.check(scene, options, 2)) << name;
+        options.memoryBudgetBytes -= 1;
+        try {
+            method.check(scene, options, 2);
+            ADD_FAILURE() << name << ": one byte over the budget was accepted";
+        } catch (const InputError& e) {
+            EXPECT_NE(std::string(e.what()).find("film.spp"), std::string::npos) << e.what();
+        }
     }
 }
 

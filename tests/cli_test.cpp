@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <sstream>
 
 #include "tests/cli_runner.h"
@@ -642,7 +643,8 @@ TEST(Cli, SweepWritesResultsImagesPlotsAndReusesTheConvergedImage) {
     std::ifstream in(dir + "/results.csv");
     std::string header;
     std::getline(in, header);
-    EXPECT_EQ(header.rfind("scene,method,spp,wall_seconds,modelled_cycles,", 0), 0u) << header;
+    EXPECT_EQ(header.rfind("scene,method,setting,spp,wall_seconds,modelled_cycles,", 0), 0u)
+        << header;
     int rows = 0;
     for (std::string line; std::getline(in, line);) ++rows;
     EXPECT_EQ(rows, 2 * 3 * 2);  // blur levels x methods x spp
@@ -671,6 +673,68 @@ TEST(Cli, SweepWritesResultsImagesPlotsAndReusesTheConvergedImage) {
     EXPECT_NE(r.output.find("--methods: 'rasterize-harder' is not one of patch, reference"),
               std::string::npos)
         << r.output;
+}
+
+// --vary runs a method at every combination of its own parameters' values; the exact methods'
+// settings give the same error, so each method's Pareto-best setting is its cheapest in modelled
+// cycles, marked in results.csv and listed in best.csv.
+TEST(Cli, SweepVariesEachMethodsOwnParametersAndMarksItsParetoBest) {
+    const std::string dir = patchsim::test::temporaryDirectory() + "/sweep-vary";
+    fs::remove_all(dir);
+    const std::string args = "sweep " + sourcePath("scenes/motion.json") +
+                             " --methods patch,interval,triangle-bbox --spp 4 --repeats 1 "
+                             "--converged-spp 16 --no-progress --vary time-strata=0,1 "
+                             "--vary bbox-bound=hull,oriented,box --vary leaf-size=2,4 -o " +
+                             dir;
+    const CommandResult r = run(args);
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    std::ifstream in(dir + "/results.csv");
+    std::string line;
+    std::getline(in, line);
+    std::map<std::string, std::vector<std::string>> bySetting;  // "method setting" -> fields
+    while (std::getline(in, line)) {
+        std::vector<std::string> fields;
+        std::stringstream row(line);
+        for (std::string f; std::getline(row, f, ',');) fields.push_back(f);
+        bySetting[fields[1] + " " + fields[2]] = fields;
+    }
+    ASSERT_EQ(bySetting.size(), 7u) << "2 + 2 + 3 settings";
+    const auto cycles = [&](const std::string& run) { return std::stod(bySetting[run][5]); };
+    const auto front = [&](const std::string& run) { return bySetting[run].back() == "1"; };
+    const auto rmse = [&](const std::string& run) { return bySetting[run][11]; };
+    // Exact methods: one image, so one error; the cheaper setting is the front.
+    EXPECT_EQ(rmse("interval time-strata=0"), rmse("interval time-strata=1"));
+    EXPECT_EQ(rmse("triangle-bbox bbox-bound=hull"), rmse("triangle-bbox bbox-bound=box"));
+    EXPECT_LT(cycles("interval time-strata=0"), cycles("interval time-strata=1"));
+    EXPECT_TRUE(front("interval time-strata=0"));
+    EXPECT_FALSE(front("interval time-strata=1"));
+    EXPECT_LT(cycles("triangle-bbox bbox-bound=hull"), cycles("triangle-bbox bbox-bound=oriented"));
+    EXPECT_LT(cycles("triangle-bbox bbox-bound=oriented"), cycles("triangle-bbox bbox-bound=box"));
+    EXPECT_TRUE(front("triangle-bbox bbox-bound=hull"));
+    EXPECT_FALSE(front("triangle-bbox bbox-bound=box"));
+    EXPECT_NE(front("patch leaf-size=2"), front("patch leaf-size=4"));
+    int best = 0;
+    std::ifstream bestCsv(dir + "/best.csv");
+    for (std::getline(bestCsv, line); std::getline(bestCsv, line);) ++best;
+    EXPECT_EQ(best, 3) << "one cheapest setting per method";
+    EXPECT_TRUE(fs::exists(dir + "/images/motion-interval-time-strata_1-4.png"));
+    EXPECT_TRUE(fs::exists(dir + "/images/motion-patch-leaf-size_2-4.png"));
+    // A parameter of a method the sweep does not run, or of none, is refused before any run.
+    const std::string refused = dir + "-refused";
+    for (const auto& [option, message] :
+         {std::pair{"--methods patch --vary time-strata=4",
+                    "--vary: time-strata is a parameter of interval, which --methods does not run"},
+          {"--vary warp-factor=9", "--vary: 'warp-factor' is not a method parameter"},
+          {"--vary bbox-bound=hull,round", "--vary: bbox-bound: 'round' is not one of"},
+          {"--vary time-strata=4 --vary time-strata=8", "--vary: varies 'time-strata' twice"},
+          {"--vary edge-threshold=0.9,inf", "--vary: edge-threshold: expected a finite number"},
+          {"--vary leaf-size", "--vary: expected NAME=V1,V2,..., found 'leaf-size'"}}) {
+        const CommandResult e =
+            run(std::string("sweep --no-progress -o ") + refused + " " + option);
+        EXPECT_EQ(e.exitCode, 2) << option << "\n" << e.output;
+        EXPECT_NE(e.output.find(message), std::string::npos) << option << "\n" << e.output;
+        EXPECT_FALSE(fs::exists(refused)) << option;
+    }
 }
 
 TEST(Cli, RenderWithHardwareConfigAndTrace) {

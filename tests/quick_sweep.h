@@ -12,11 +12,11 @@
 namespace patchsim::test {
 
 inline std::vector<SweepRow> quickSweep(const SceneDesc& scene,
-                                        std::vector<const VisibilityMethod*> methods,
+                                        const std::vector<const VisibilityMethod*>& methods,
                                         std::vector<int> samplesPerPixel, const std::string& name,
                                         const RenderOptions& render = {}) {
     SweepOptions o;
-    o.methods = std::move(methods);
+    for (const VisibilityMethod* m : methods) o.variants.push_back({m, "", render, {}});
     o.samplesPerPixel = std::move(samplesPerPixel);
     o.repeats = 1;
     o.convergedSamplesPerPixel = 64;

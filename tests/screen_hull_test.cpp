@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <random>
+#include <vector>
 
 namespace patchsim {
 namespace {
@@ -49,6 +50,40 @@ TEST(ScreenHull, ABlurredPointGoesInAsItsSquare) {
     EXPECT_FALSE(hull.contains(Vec2(1.51f, 2.0f)));
     EXPECT_DOUBLE_EQ(hull.lower(0), 0.5);
     EXPECT_DOUBLE_EQ(hull.upper(1), 2.5);
+}
+
+// The least-area rectangle of a rotated rectangle is that rectangle, not its screen box; of any
+// point set it holds every point and its area lies between the hull's and the screen box's.
+TEST(ScreenHull, TheOrientedBoxIsTheLeastAreaRectangleHoldingTheHull) {
+    const double c = std::cos(0.5), s = std::sin(0.5);
+    ScreenHull rotated;
+    for (auto [u, v] : {std::pair{0.0, 0.0}, {4.0, 0.0}, {4.0, 1.0}, {0.0, 1.0}, {2.0, 0.5}})
+        rotated.addBlurredPoint(u * c - v * s, u * s + v * c, 0.0);
+    ASSERT_TRUE(rotated.buildOrientedBox(0.0));
+    EXPECT_EQ(rotated.cornerCount(), 4);
+    EXPECT_NEAR(rotated.area(), 4.0, 1e-12);
+    const double boxArea =
+        (rotated.upper(0) - rotated.lower(0)) * (rotated.upper(1) - rotated.lower(1));
+    EXPECT_GT(boxArea, 8.0);
+
+    std::mt19937 rng(5);
+    std::uniform_real_distribution<double> coord(-3.0, 3.0), spread(0.0, 0.3);
+    for (int trial = 0; trial < 200; ++trial) {
+        ScreenHull hull, box;
+        std::vector<std::pair<double, double>> points;
+        for (int k = 0; k < 6; ++k) {
+            const double x = coord(rng), y = 0.3 * coord(rng) + 0.5 * x, r = spread(rng);
+            hull.addBlurredPoint(x, y, r);
+            box.addBlurredPoint(x, y, r);
+            for (double dx : {-r, r})
+                for (double dy : {-r, r}) points.push_back({x + dx, y + dy});
+        }
+        ASSERT_TRUE(hull.build(0.0));
+        ASSERT_TRUE(box.buildOrientedBox(1e-6));  // above the points' rounding to float
+        EXPECT_GE(box.area(), hull.area() * (1 - 1e-12));
+        EXPECT_LE(box.area(), (box.upper(0) - box.lower(0)) * (box.upper(1) - box.lower(1)));
+        for (auto [x, y] : points) EXPECT_TRUE(box.contains(Vec2(float(x), float(y)))) << trial;
+    }
 }
 
 TEST(ScreenHull, APointOrASegmentHasNoHull) {

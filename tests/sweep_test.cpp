@@ -71,7 +71,8 @@ TEST(Sweep, BlurScaleScalesMotionAndAperture) {
 // as 1/sqrt(spp) (log-log slope -0.5 or steeper) while the converged image is far enough ahead.
 TEST(Sweep, ExactMethodsAgreeAndConvergeAtLeastAsFastAsOneOverRootSpp) {
     SweepOptions o;
-    o.methods = {&methodNamed("patch"), &methodNamed("triangle-bbox"), &methodNamed("interval")};
+    for (const char* name : {"patch", "triangle-bbox", "interval"})
+        o.variants.push_back({&methodNamed(name), "", {}, {}});
     o.samplesPerPixel = {1, 4, 16, 64};
     o.repeats = 1;
     o.convergedSamplesPerPixel = 2048;

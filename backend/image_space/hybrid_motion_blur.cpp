@@ -75,7 +75,10 @@ GBuffer gBuffer(const ShadingContext& c, const ResolvedFrame& sharp, const Visib
     return g;
 }
 
-// Step 2's x_n at pixel (x, y): 5x5 Sobel of depth (relative) and of the normals.
+// Step 2's x_n at pixel (x, y): the 5x5 Sobel of depth (relative to the pixel's, so the threshold
+// does not depend on the scene's units) and of the normals, unnormalised as the paper applies the
+// kernel, so that its e (0.9 to 0.98) means what it means there: a depth step of about a fifth of
+// the pixel's depth, or a crease of about 11 degrees, gives x_n = 0.9.
 float edgeMeasure(const GBuffer& g, int x, int y) {
     constexpr float smooth[5] = {1, 4, 6, 4, 1}, derive[5] = {-1, -2, 0, 2, 1};
     float dzx = 0, dzy = 0;
@@ -91,9 +94,8 @@ float edgeMeasure(const GBuffer& g, int x, int y) {
             dny += wy * g.normal[k];
         }
     }
-    constexpr float kNorm = 1.0f / 48.0f;  // the positive weights of one kernel
-    const float dd = std::sqrt(dzx * dzx + dzy * dzy) * kNorm / g.depth[g.index(x, y)];
-    const float dn = std::sqrt(glm::dot(dnx, dnx) + glm::dot(dny, dny)) * kNorm;
+    const float dd = std::sqrt(dzx * dzx + dzy * dzy) / g.depth[g.index(x, y)];
+    const float dn = std::sqrt(glm::dot(dnx, dnx) + glm::dot(dny, dny));
     const float xs = dd + dn;
     return std::clamp(1.0f - 1.0f / (xs + 1.0f), 0.0f, 1.0f);
 }

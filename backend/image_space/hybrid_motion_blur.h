@@ -11,8 +11,9 @@
 //      shows another object (m_n != m_t) deeper by more than SOFT_Z_EXTENT (z_n - z_t > extent):
 //      it is a foreground edge the motion uncovers;
 //   2. a candidate is an edge when x_n = saturate(1 - 1 / (x + 1)) exceeds the threshold e, where
-//      x = delta_d + delta_n, the 5x5 Sobel gradient of depth (relative to the pixel's depth) and
-//      the Frobenius norm of the normals' Sobel gradient;
+//      x = delta_d + delta_n, the unnormalised 5x5 Sobel gradient of depth (relative to the
+//      pixel's depth) and the Frobenius norm of the normals' Sobel gradient: the paper's scale,
+//      on which it sets e = 0.9 to 0.98;
 //   3. range check: a moving pixel is masked when one of S samples along its velocity (the
 //      gather's span) is an edge.
 // Ray reveal: for each masked pixel, a ray through its centre at mid-shutter, and a second ray
@@ -40,7 +41,7 @@ namespace patchsim {
 
 struct HybridOptions {
     PostprocessOptions post;
-    float edgeThreshold = 0.2f;  // e, on x_n in [0, 1)
+    float edgeThreshold = 0.9f;  // e, on x_n in [0, 1): the paper's 0.9 (0.96, 0.98 elsewhere)
 };
 
 // What the hybrid did beyond the post-process (counters HY/*).

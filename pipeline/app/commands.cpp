@@ -93,6 +93,7 @@ RenderOptions renderOptionsOf(const JobSettings& s) {
     o.edgeThreshold = s.edgeThreshold;
     o.reprojection.cameraSteps = s.cameraSteps;
     o.tfragment.motionSamples = s.motionSamples;
+    o.tfragment.maxCollected = s.tfragmentLimit;
     o.tfragmentTimeSampled = s.timeSampled;
     o.resolve.filter = s.filter == "gaussian" ? ResolveFilter::Gaussian : ResolveFilter::Box;
     o.resolve.shadingRate = s.shadingRate == "per-pixel-primitive" ? ShadingRate::PerPixelPrimitive
@@ -429,11 +430,55 @@ int runExplore(const JobSettings& s, const MpiContext& mpi) {
     return 0;
 }
 
+// Each method of --methods at every combination of its own --vary axes' values (one variant, at
+// the options' values, when none varies it).
+std::vector<SweepVariant> sweepVariants(const JobSettings& s) {
+    std::vector<SweepAxis> axes;
+    for (const std::string& text : s.vary) axes.push_back(parseSweepAxis(text));
+    for (const SweepAxis& axis : axes) {
+        const auto runs = [&](const std::string& m) {
+            return std::find(s.methods.begin(), s.methods.end(), m) != s.methods.end();
+        };
+        if (std::none_of(axis.methods.begin(), axis.methods.end(), runs))
+            throw InputError("command line", "--vary",
+                             axis.name + " is a parameter of " + axis.methods.front() +
+                                 ", which --methods does not run");
+    }
+    std::vector<SweepVariant> variants;
+    for (const std::string& name : s.methods) {
+        std::vector<const SweepAxis*> mine;
+        for (const SweepAxis& axis : axes)
+            if (std::find(axis.methods.begin(), axis.methods.end(), name) != axis.methods.end())
+                mine.push_back(&axis);
+        // An odometer over the axes' values, the last axis fastest.
+        std::vector<std::size_t> at(mine.size(), 0);
+        for (bool more = true; more;) {
+            JobSettings c = s;
+            SweepVariant v;
+            v.method = &methodNamed(name);  // checked against the method table
+            for (std::size_t k = 0; k < mine.size(); ++k) {
+                const std::string& value = mine[k]->values[at[k]];
+                v.setting += (k ? ";" : "") + mine[k]->name + "=" + value;
+                if (mine[k]->option)
+                    applyJobOption(*mine[k]->option, value, c);
+                else
+                    v.rasterizer.push_back({mine[k]->field->key, value});
+            }
+            v.render = renderOptionsOf(c);
+            variants.push_back(std::move(v));
+            more = false;
+            for (std::size_t k = mine.size(); k-- > 0 && !more;) {
+                more = ++at[k] < mine[k]->values.size();
+                if (!more) at[k] = 0;
+            }
+        }
+    }
+    return variants;
+}
+
 int runSweepCommand(const JobSettings& s) {
     SweepOptions o;
-    for (const std::string& name : s.methods) {
-        o.methods.push_back(&methodNamed(name));  // checked against the method table
-    }
+    o.variants = sweepVariants(s);
     o.samplesPerPixel = s.sppList;
     o.repeats = s.repeats;
     o.convergedSamplesPerPixel = s.convergedSpp;

@@ -3,6 +3,7 @@
 #include <charconv>
 #include <cmath>
 #include <cstdio>
+#include <nlohmann/json.hpp>
 #include <set>
 #include <sstream>
 
@@ -76,6 +77,13 @@ std::vector<JobOption> makeTable() {
     t.push_back(
         O("--repeats", kSweep, K::Integer, &S::repeats, "Renders per run; the median time counts")
             .in(1, 100));
+    t.push_back(
+        O("--vary", kSweep, K::Variation, &S::vary,
+          "A method parameter's values, NAME=V1,V2,... (repeatable): the method runs at "
+          "every combination of its own parameters' values, e.g. time-strata=0,4,16, "
+          "bbox-bound=hull,oriented,box, edge-threshold=0.9,0.98, tfragment-limit=128,4096, "
+          "or a rasterizer option of the patch method (leaf-size=2,4,8); results.csv marks "
+          "each method's Pareto-best settings and best.csv lists them"));
     t.push_back(O("--converged-spp", kSweep, K::Integer, &S::convergedSpp,
                   "Samples per pixel of the converged image (0: 16 x the largest --spp)")
                     .in(0, 1 << 20));
@@ -84,39 +92,56 @@ std::vector<JobOption> makeTable() {
           "interval: time strata K (0: one per sample of a pixel, as Fatahalian et al. run it; "
           "one when nothing moves)")
             .in(0, 4096)
+            .ofMethods({"interval"})
             .recordedAs("time_strata"));
     t.push_back(O("--bbox-bound", kPerMethod, K::Name, &S::bboxBound,
                   "triangle-bbox: the bound whose samples are ray-tested (hull: the convex hull of "
-                  "the moving, defocused triangle, as McGuire et al. 2010; box: its screen box)")
-                    .oneOf({"hull", "box"})
+                  "the moving, defocused triangle, as McGuire et al. 2010; oriented: the "
+                  "least-area rectangle holding that hull; box: its screen box)")
+                    .oneOf({"hull", "oriented", "box"})
+                    .ofMethods({"triangle-bbox"})
                     .recordedAs("bbox_bound"));
     t.push_back(O("--pp-tile-size", kPerMethod, K::Integer, &S::ppTileSize,
                   "postprocess: TileMax tile size k in pixels (velocities are clamped to it)")
                     .in(1, 1024)
+                    .ofMethods({"postprocess", "hybrid"})
                     .recordedAs("pp_tile_size"));
     t.push_back(O("--pp-samples", kPerMethod, K::Integer, &S::ppSamples,
                   "postprocess: samples gathered per pixel (odd: the centre is the pixel itself)")
                     .in(3, 255)
                     .oddOnly()
+                    .ofMethods({"postprocess", "hybrid"})
                     .recordedAs("pp_samples"));
     t.push_back(O("--soft-z-extent", kPerMethod, K::Real, &S::softZExtent,
                   "postprocess: SOFT_Z_EXTENT, the depth over which samples blend from in front "
                   "to behind (scene units)")
                     .in(1e-6, 1e6)
+                    .ofMethods({"postprocess", "hybrid"})
                     .recordedAs("soft_z_extent"));
-    t.push_back(O("--edge-threshold", kPerMethod, K::Real, &S::edgeThreshold,
-                  "hybrid: Sobel edge threshold e of the ray mask")
-                    .in(0, 1)
-                    .openAbove()
-                    .recordedAs("edge_threshold"));
+    t.push_back(
+        O("--edge-threshold", kPerMethod, K::Real, &S::edgeThreshold,
+          "hybrid: Sobel edge threshold e of the ray mask, on Tan et al.'s scale (x_n of the "
+          "unnormalised 5x5 Sobel; they use 0.9 to 0.98)")
+            .in(0, 1)
+            .openAbove()
+            .ofMethods({"hybrid"})
+            .recordedAs("edge_threshold"));
     t.push_back(O("--camera-steps", kPerMethod, K::Integer, &S::cameraSteps,
                   "reprojection: interpolated cameras per reprojection cycle")
                     .in(2, 1024)
+                    .ofMethods({"reprojection"})
                     .recordedAs("camera_steps"));
     t.push_back(O("--motion-samples", kPerMethod, K::Integer, &S::motionSamples,
                   "tfragment: time samples per lens ray (the paper's 4 and 32)")
                     .in(1, 256)
+                    .ofMethods({"tfragment"})
                     .recordedAs("motion_samples"));
+    t.push_back(O("--tfragment-limit", kPerMethod, K::Integer, &S::tfragmentLimit,
+                  "tfragment: t-fragments a lens ray keeps; those beyond it are dropped (the "
+                  "paper's 128)")
+                    .in(1, 1 << 20)
+                    .ofMethods({"tfragment"})
+                    .recordedAs("tfragment_limit"));
     t.push_back(O("--time-sampled", kRender, K::Flag, &S::timeSampled,
                   "tfragment: trace once per motion sample instead of once per lens ray (the "
                   "paper's comparison)")
@@ -191,7 +216,7 @@ std::string rangeText(const JobOption& o) {
     return text;
 }
 
-std::string quoted(const std::string& s) {
+std::string inQuotes(const std::string& s) {
     return "'" + s + "'";
 }
 
@@ -206,7 +231,7 @@ std::string parseInteger(const JobOption& o, const std::string& text, std::int64
     const char* end = text.data() + text.size();
     const auto [ptr, ec] = std::from_chars(text.data(), end, out);
     if (ec != std::errc() || ptr != end)
-        return "expected a whole number in " + rangeText(o) + ", found " + quoted(text);
+        return "expected a whole number in " + rangeText(o) + ", found " + inQuotes(text);
     if (double(out) < o.lo || double(out) > o.hi)
         return std::to_string(out) + " is outside " + rangeText(o);
     if (o.odd && out % 2 == 0) return std::to_string(out) + " is even; it must be odd";
@@ -217,13 +242,13 @@ std::string parseReal(const JobOption& o, const std::string& text, double& out) 
     const char* end = text.data() + text.size();
     const auto [ptr, ec] = std::from_chars(text.data(), end, out);
     if (ec != std::errc() || ptr != end || !std::isfinite(out))
-        return "expected a finite number in " + rangeText(o) + ", found " + quoted(text);
+        return "expected a finite number in " + rangeText(o) + ", found " + inQuotes(text);
     // Every real option is held as a float: the range must hold for the value it becomes.
     const double held = double(float(out));
     const bool below = o.loOpen ? !(held > o.lo) : !(held >= o.lo);
     const bool above = o.hiOpen ? !(held < o.hi) : !(held <= o.hi);
     if (below || above)
-        return quoted(text) + " is outside " + rangeText(o) +
+        return inQuotes(text) + " is outside " + rangeText(o) +
                (held != out ? " as a single-precision number" : "");
     out = held;
     return {};
@@ -232,7 +257,7 @@ std::string parseReal(const JobOption& o, const std::string& text, double& out) 
 std::string parseName(const JobOption& o, const std::string& text) {
     for (const std::string& c : o.choices)
         if (c == text) return {};
-    return quoted(text) + " is not one of " + joined(o.choices);
+    return inQuotes(text) + " is not one of " + joined(o.choices);
 }
 
 // Items of a comma-separated list; an empty item (",,", a leading or trailing comma) is an error.
@@ -242,7 +267,7 @@ std::string splitList(const std::string& text, std::vector<std::string>& items) 
     while (std::getline(in, item, ',')) items.push_back(item);
     if (!text.empty() && text.back() == ',') items.push_back({});
     for (const std::string& i : items)
-        if (i.empty()) return "empty item in the list " + quoted(text);
+        if (i.empty()) return "empty item in the list " + inQuotes(text);
     if (items.empty()) return "needs at least one value";
     return {};
 }
@@ -251,7 +276,7 @@ std::string splitList(const std::string& text, std::vector<std::string>& items) 
 template <class T>
 std::string checkDistinct(const std::vector<T>& values, const std::string& text) {
     const std::set<T> distinct(values.begin(), values.end());
-    if (distinct.size() != values.size()) return "the list " + quoted(text) + " repeats an item";
+    if (distinct.size() != values.size()) return "the list " + inQuotes(text) + " repeats an item";
     return {};
 }
 
@@ -265,6 +290,7 @@ std::string checkPath(const JobOption& o, const std::string& text) {
 }
 
 std::string applyList(const JobOption& o, const std::string& text, JobSettings& s);
+std::string checkSweepAxis(const std::string& text, SweepAxis* out = nullptr);
 
 // Parses `text` into the row's field of `s`; returns an error message, empty when accepted.
 std::string apply(const JobOption& o, const std::string& text, JobSettings& s) {
@@ -295,6 +321,13 @@ std::string apply(const JobOption& o, const std::string& text, JobSettings& s) {
         case K::Text:
             if (text.empty()) return "empty value";
             s.*std::get<std::string S::*>(o.field) = text;
+            return {};
+        case K::Variation:
+            if (!(error = checkSweepAxis(text)).empty()) return error;
+            for (const std::string& given : s.*std::get<std::vector<std::string> S::*>(o.field))
+                if (given.substr(0, given.find('=')) == text.substr(0, text.find('=')))
+                    return "varies " + inQuotes(text.substr(0, text.find('='))) + " twice";
+            (s.*std::get<std::vector<std::string> S::*>(o.field)).push_back(text);
             return {};
         case K::InputPath:
         case K::OutputFile:
@@ -399,6 +432,66 @@ std::string JobOption::longName() const {
     return comma == std::string::npos ? f : f.substr(comma + 1);
 }
 
+namespace {
+
+// The names --vary takes: every per-method option's and every rasterizer option's.
+std::string sweepAxisNames() {
+    std::string names;
+    for (const JobOption& o : jobOptions())
+        if (!o.methods.empty() && o.takes(Command::Sweep))
+            names += (names.empty() ? "" : ", ") + o.longName().substr(2);
+    for (const RasterizerOptionField& f : rasterizerOptionFields())
+        names += ", " + std::string(f.flag).substr(2);
+    return names;
+}
+
+// Checks one value of an axis by its option's own rule; returns an error message.
+std::string checkAxisValue(const SweepAxis& axis, const std::string& value) {
+    if (axis.option) {
+        JobSettings scratch;
+        return apply(*axis.option, value, scratch);
+    }
+    RasterizerOptions scratch;
+    return axis.field->set(scratch, optionValueFromText(value));
+}
+
+std::string checkSweepAxis(const std::string& text, SweepAxis* out) {
+    const std::size_t eq = text.find('=');
+    if (eq == std::string::npos || eq == 0)
+        return "expected NAME=V1,V2,..., found " + inQuotes(text);
+    SweepAxis axis;
+    axis.name = text.substr(0, eq);
+    for (const JobOption& o : jobOptions())
+        if (!o.methods.empty() && o.takes(Command::Sweep) && o.longName() == "--" + axis.name)
+            axis.option = &o;
+    for (const RasterizerOptionField& f : rasterizerOptionFields())
+        if (f.flag == "--" + axis.name) axis.field = &f;
+    if (axis.option) {
+        axis.methods = axis.option->methods;
+    } else if (axis.field) {
+        axis.methods = {"patch"};  // the patent's design options
+    } else {
+        return inQuotes(axis.name) + " is not a method parameter; one of " + sweepAxisNames();
+    }
+    std::string error = splitList(text.substr(eq + 1), axis.values);
+    if (!error.empty()) return axis.name + ": " + error;
+    for (const std::string& value : axis.values)
+        if (!(error = checkAxisValue(axis, value)).empty()) return axis.name + ": " + error;
+    if (!(error = checkDistinct(axis.values, text.substr(eq + 1))).empty())
+        return axis.name + ": " + error;
+    if (out) *out = std::move(axis);
+    return {};
+}
+
+}  // namespace
+
+SweepAxis parseSweepAxis(const std::string& text) {
+    SweepAxis axis;
+    const std::string error = checkSweepAxis(text, &axis);
+    if (!error.empty()) throw InputError("command line", "--vary", error);
+    return axis;
+}
+
 void applyJobOption(const JobOption& option, const std::string& text, JobSettings& settings) {
     const std::string error = apply(option, text, settings);
     if (!error.empty()) throw InputError("command line", option.longName(), error);
@@ -455,6 +548,9 @@ std::string valueDescription(const JobOption& o) {
             break;
         case K::Text:
             value = "text";
+            break;
+        case K::Variation:
+            value = "NAME=V1,V2,...";
             break;
         case K::IntegerList:
             value = "list of whole numbers in " + rangeText(o);

@@ -54,6 +54,7 @@ struct JobSettings {
     float edgeThreshold = HybridOptions{}.edgeThreshold;
     int cameraSteps = ReprojectionOptions{}.cameraSteps;
     int motionSamples = TFragmentOptions{}.motionSamples;
+    int tfragmentLimit = TFragmentOptions{}.maxCollected;
     bool timeSampled = false;
     bool noTimeRefinement = false, noZCulling = false;
     std::string filter = "box", shadingRate = "per-fragment";
@@ -72,6 +73,7 @@ struct JobSettings {
     std::vector<std::string> methods;
     std::vector<int> sppList;
     std::vector<float> blurList;
+    std::vector<std::string> vary;  // --vary texts, each checked by parseSweepAxis
     int repeats = 3, convergedSpp = 0;
     // explore
     std::string grid, plots;
@@ -91,6 +93,7 @@ enum class ValueKind : std::uint8_t {
     OutputFile,
     OutputFolder,
     Text,
+    Variation,  // "NAME=V1,V2,...": a method parameter's values (sweep --vary), repeatable
     IntegerList,
     RealList,
     NameList,
@@ -112,6 +115,7 @@ struct JobOption {
     bool odd = false;                  // integers: odd only
     std::vector<std::string> choices;  // names
     const char* statsKey = nullptr;    // key in stats.json's "options" (null: not recorded)
+    std::vector<std::string> methods;  // the visibility methods whose parameter it is (sweep axes)
 
     JobOption(const char* flag_, unsigned commands_, ValueKind kind_, JobField field_,
               const char* help_)
@@ -138,6 +142,10 @@ struct JobOption {
         choices = std::move(names);
         return std::move(*this);
     }
+    JobOption ofMethods(std::vector<std::string> names) && {
+        methods = std::move(names);
+        return std::move(*this);
+    }
     JobOption recordedAs(const char* key) && {
         statsKey = key;
         return std::move(*this);
@@ -155,6 +163,20 @@ void applyJobOption(const JobOption& option, const std::string& text, JobSetting
 
 // The field's value as text (lists comma-separated), for stats.json and the help's defaults.
 std::string jobOptionValue(const JobOption& option, const JobSettings& settings);
+
+// One axis of a sweep (--vary NAME=V1,V2,...): a method parameter and the values it takes. NAME is
+// a per-method option's long name without the dashes ("time-strata") or a rasterizer option's
+// ("leaf-size", the patch method's design); every value is checked by that option's own rule.
+struct SweepAxis {
+    std::string name;
+    std::vector<std::string> values;
+    const JobOption* option = nullptr;                    // a per-method option, or
+    const struct RasterizerOptionField* field = nullptr;  // a rasterizer option
+    std::vector<std::string> methods;                     // the methods it is a parameter of
+};
+
+// Throws InputError("command line", "--vary", ...) when `text` is not a valid axis.
+SweepAxis parseSweepAxis(const std::string& text);
 
 // A Markdown page of every command's options (docs/OPTIONS.md).
 std::string jobOptionsMarkdown();

@@ -41,6 +41,15 @@ void addTableOptions(Subcommand& sub) {
                     given.push_back({&o, "true"});
                 },
                 o.help);
+        } else if (o.kind == ValueKind::Variation) {
+            // Repeatable, one value each time: a list would take the scenes after it.
+            added = sub.app->add_option_function<std::vector<std::string>>(
+                o.flag,
+                [&given, &o](const std::vector<std::string>& texts) {
+                    for (const std::string& t : texts) given.push_back({&o, t});
+                },
+                o.help);
+            added->allow_extra_args(false);
         } else if (o.positional() && std::string(o.flag) == "scenes") {
             added = sub.app->add_option_function<std::vector<std::string>>(
                 o.flag,

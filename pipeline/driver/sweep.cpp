@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <nlohmann/json.hpp>
 #include <ostream>
 #include <set>
 
@@ -13,6 +14,7 @@
 #include "core/error.h"
 #include "core/output_set.h"
 #include "core/progress.h"
+#include "core/rasterizer_options.h"
 #include "pipeline/driver/converged_image.h"
 #include "pipeline/driver/plots.h"
 #include "pipeline/timing/timing_model.h"
@@ -34,17 +36,31 @@ double median(std::vector<double> v) {
     return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
 }
 
-SweepRow measureRun(const SweepScene& s, const VisibilityMethod& method, int spp,
-                    const ConvergedImage& converged, const SweepOptions& o, Image& picture) {
+// The scene as a variant renders it: at `spp`, with the variant's rasterizer options.
+SceneDesc variantScene(const SweepScene& s, const SweepVariant& v, int spp) {
     SceneDesc scene = s.scene;
     scene.film.samplesPerPixel = spp;
-    RenderOptions options = o.render;
+    for (const auto& [key, text] : v.rasterizer) {
+        const RasterizerOptionField& field = *findRasterizerOptionField(key);
+        const std::string error = field.set(scene.rasterizer, optionValueFromText(text));
+        if (!error.empty()) throw InputError("command line", "--vary", error);
+    }
+    if (!v.rasterizer.empty()) scene.rasterizer.validate("--vary " + v.setting);
+    return scene;
+}
+
+SweepRow measureRun(const SweepScene& s, const SweepVariant& variant, int spp,
+                    const ConvergedImage& converged, const SweepOptions& o, Image& picture) {
+    const SceneDesc scene = variantScene(s, variant, spp);
+    const VisibilityMethod& method = *variant.method;
+    RenderOptions options = variant.render;
     options.method = &method;
     options.progress = false;
     std::vector<double> seconds;
     SweepRow row;
     row.scene = s.label;
     row.method = method.name();
+    row.setting = variant.setting;
     row.spp = spp;
     for (int r = 0; r < std::max(1, o.repeats); ++r) {
         CounterRegistry::instance().reset();
@@ -155,19 +171,40 @@ std::vector<std::string> sweepSceneLabels(const std::vector<std::string>& paths,
     return labels;
 }
 
+std::string SweepVariant::label() const {
+    return safeLabel(setting.empty() ? std::string(method->name())
+                                     : std::string(method->name()) + "-" + setting);
+}
+
+void markParetoFronts(std::vector<SweepRow>& rows) {
+    const auto sameRun = [](const SweepRow& a, const SweepRow& b) {
+        return a.scene == b.scene && a.spp == b.spp && a.method == b.method;
+    };
+    for (SweepRow& r : rows) {
+        r.front = true;
+        for (const SweepRow& other : rows) {
+            if (&other == &r || !sameRun(r, other)) continue;
+            const bool noWorse = other.modelledCycles <= r.modelledCycles && other.rmse <= r.rmse;
+            const bool better = other.modelledCycles < r.modelledCycles || other.rmse < r.rmse;
+            if (noWorse && better) r.front = false;
+        }
+    }
+}
+
 std::string sweepCsvHeader() {
-    return "scene,method,spp,wall_seconds,modelled_cycles,samples_tested,rays,visibility_samples,"
-           "sample_test_efficiency,shading_invocations,rmse,psnr,ssim,coverage_error";
+    return "scene,method,setting,spp,wall_seconds,modelled_cycles,samples_tested,rays,"
+           "visibility_samples,sample_test_efficiency,shading_invocations,rmse,psnr,ssim,"
+           "coverage_error,front";
 }
 
 std::string sweepCsvRow(const SweepRow& r) {
-    return r.scene + "," + r.method + "," + std::to_string(r.spp) + "," + number(r.wallSeconds) +
-           "," + number(r.modelledCycles) + "," + std::to_string(r.visibility.samplesTested) + "," +
-           std::to_string(r.visibility.rays) + "," +
-           std::to_string(r.visibility.visibilitySamples) + "," +
+    return r.scene + "," + r.method + "," + r.setting + "," + std::to_string(r.spp) + "," +
+           number(r.wallSeconds) + "," + number(r.modelledCycles) + "," +
+           std::to_string(r.visibility.samplesTested) + "," + std::to_string(r.visibility.rays) +
+           "," + std::to_string(r.visibility.visibilitySamples) + "," +
            number(r.visibility.sampleTestEfficiency) + "," + std::to_string(r.shadingInvocations) +
            "," + number(r.rmse) + "," + number(r.psnr) + "," + number(r.ssim) + "," +
-           number(r.coverageError);
+           number(r.coverageError) + "," + (r.front ? "1" : "0");
 }
 
 namespace {
@@ -179,13 +216,12 @@ void checkEveryRun(const std::vector<SweepScene>& scenes, const SweepOptions& o,
     spps.push_back(std::min(convergedSpp, kConvergedSamplesPerPass));
     for (const SweepScene& s : scenes) {
         for (int spp : spps) {
-            SceneDesc scene = s.scene;
-            scene.film.samplesPerPixel = spp;
-            checkMemoryBudget(scene.film, o.limits, s.label, "--spp");
-            scene.rasterizer.validateTileSamples(spp, s.label);
-            RenderOptions options = o.render;
-            for (const VisibilityMethod* method : o.methods) {
-                options.method = method;
+            checkMemoryBudget(variantScene(s, {}, spp).film, o.limits, s.label, "--spp");
+            for (const SweepVariant& v : o.variants) {
+                const SceneDesc scene = variantScene(s, v, spp);
+                scene.rasterizer.validateTileSamples(spp, s.label);
+                RenderOptions options = v.render;
+                options.method = v.method;
                 checkRender(scene, options);
             }
         }
@@ -223,19 +259,20 @@ std::vector<SweepRow> runSweep(const std::vector<SweepScene>& scenes, const Swee
     // Every run's image is reserved now, so a path that cannot be written fails before any run.
     for (const SweepScene& s : scenes) {
         outputs.file(joinOutputPath(imagesDir, s.label + "-converged.png"), "-o");
-        for (const VisibilityMethod* method : o.methods)
+        for (const SweepVariant& v : o.variants)
             for (int spp : o.samplesPerPixel)
-                outputs.file(joinOutputPath(imagesDir, s.label + "-" + method->name() + "-" +
+                outputs.file(joinOutputPath(imagesDir, s.label + "-" + v.label() + "-" +
                                                            std::to_string(spp) + ".png"),
                              "-o");
     }
     outputs.file(joinOutputPath(dir, "results.csv"), "-o");
+    outputs.file(joinOutputPath(dir, "best.csv"), "-o");
     const PlotJob plots{"sweep", joinOutputPath(dir, "results.csv"), joinOutputPath(dir, "plots")};
     addPlotScript(outputs, plots, "-o");
     std::vector<SweepRow> rows;
     std::set<std::string> images;
     Progress progress("sweep     ",
-                      std::int64_t(scenes.size() * o.methods.size() * o.samplesPerPixel.size()), 1,
+                      std::int64_t(scenes.size() * o.variants.size() * o.samplesPerPixel.size()), 1,
                       o.progress, "runs");
     const auto say = [&](const std::string& line) {
         progress.clear();
@@ -257,26 +294,31 @@ std::vector<SweepRow> runSweep(const std::vector<SweepScene>& scenes, const Swee
             " spp, patch method) " + (converged.fromCache ? "reused from " : "rendered into ") +
             converged.path + (converged.note.empty() ? "" : " (" + converged.note + ")"));
         writeImage(converged.color, s.label + "-converged.png");
-        for (const VisibilityMethod* method : o.methods) {
+        for (const SweepVariant& v : o.variants) {
             for (int spp : o.samplesPerPixel) {
-                const std::string run = s.label + "-" + method->name() + "-" + std::to_string(spp);
+                const std::string run = s.label + "-" + v.label() + "-" + std::to_string(spp);
                 progress.describe(run);
                 Image picture;
-                rows.push_back(measureRun(s, *method, spp, converged, o, picture));
+                rows.push_back(measureRun(s, v, spp, converged, o, picture));
                 writeImage(picture, run + ".png");
                 progress.advance();
             }
         }
     }
     progress.clear();
-    outputs.writeText(joinOutputPath(dir, "results.csv"), "-o", [&](std::ostream& out) {
-        out << sweepCsvHeader() << "\n";
-        for (const SweepRow& r : rows) out << sweepCsvRow(r) << "\n";
-    });
+    markParetoFronts(rows);
+    for (const char* name : {"results.csv", "best.csv"}) {
+        const bool all = std::string(name) == "results.csv";
+        outputs.writeText(joinOutputPath(dir, name), "-o", [&](std::ostream& out) {
+            out << sweepCsvHeader() << "\n";
+            for (const SweepRow& r : rows)
+                if (all || r.front) out << sweepCsvRow(r) << "\n";
+        });
+    }
     outputs.commit();
     const std::size_t stale = removeStaleImages(imagesDir, images);
-    log << "wrote " << dir << "/results.csv (" << rows.size() << " runs) and their images in "
-        << imagesDir;
+    log << "wrote " << dir << "/results.csv (" << rows.size() << " runs), " << dir
+        << "/best.csv (each method's Pareto-best settings) and the runs' images in " << imagesDir;
     if (stale > 0) log << "; removed " << stale << " images of an earlier sweep";
     log << "\n";
     drawPlots(plots, log);

@@ -35,12 +35,26 @@ SceneDesc scaleBlur(const SceneDesc& scene, float scale);
 std::vector<std::string> sweepSceneLabels(const std::vector<std::string>& paths,
                                           const std::vector<float>& blurs);
 
+// One method at one setting of its own parameters (sweep --vary): what it renders with.
+struct SweepVariant {
+    const VisibilityMethod* method = nullptr;
+    // "" when nothing varies; else "name=value" per varied parameter, joined by ';'
+    // ("time-strata=16", "leaf-size=2;tile-size=16").
+    std::string setting;
+    RenderOptions render;  // the method's parameters at this setting (the method is `method`)
+    // Rasterizer options of this setting, (key, value text), set on each scene's before a run.
+    std::vector<std::pair<std::string, std::string>> rasterizer;
+
+    // As file names use it: the method, then the setting with '=' and ';' as '_'.
+    std::string label() const;
+};
+
 struct SweepOptions {
-    std::vector<const VisibilityMethod*> methods;
+    std::vector<SweepVariant> variants;  // method-major, as --methods lists them
     std::vector<int> samplesPerPixel;
     int repeats = 3;
     int convergedSamplesPerPixel = 0;  // 0: 16 x the largest of `samplesPerPixel`
-    RenderOptions render;              // threads, strata, filter (method and spp are the sweep's)
+    RenderOptions render;  // the converged image's: threads, filter (method and spp the sweep's)
     HardwareConfig hardware;
     SceneLimits limits;
     std::string outputDir;
@@ -50,19 +64,26 @@ struct SweepOptions {
 };
 
 struct SweepRow {
-    std::string scene, method;
+    std::string scene, method, setting;
     int spp = 0;
     double wallSeconds = 0, modelledCycles = 0;
     VisibilityTotals visibility;
     std::int64_t shadingInvocations = 0;
     double rmse = 0, psnr = 0, ssim = 1, coverageError = 0;
+    // On its method's Pareto front for this scene and spp: no other setting of the method has
+    // fewer or equal modelled cycles and error (RMSE), one of them fewer.
+    bool front = true;
 };
+
+// Sets every row's `front` among the rows of its scene, spp and method.
+void markParetoFronts(std::vector<SweepRow>& rows);
 
 std::string sweepCsvHeader();
 std::string sweepCsvRow(const SweepRow& row);
 
-// Runs the sweep; writes OUT/results.csv, OUT/images, OUT/converged (the cache) and, with
-// matplotlib, OUT/plots. Returns the rows. `log` receives one line per step worth telling.
+// Runs the sweep; writes OUT/results.csv, OUT/best.csv (the rows on their method's Pareto front),
+// OUT/images, OUT/converged (the cache) and, with matplotlib, OUT/plots. Returns the rows. `log`
+// receives one line per step worth telling.
 std::vector<SweepRow> runSweep(const std::vector<SweepScene>& scenes, const SweepOptions& options,
                                std::ostream& log);
 

@@ -1,6 +1,8 @@
 // The bounding baselines (rasterizer/baselines/bounding_rasterizer.h) as visibility methods:
 // triangle-bbox, interval and interleaved, in bands of rows.
 
+#include "core/error.h"
+#include "core/scene_reader.h"
 #include "pipeline/methods/visibility_method.h"
 #include "rasterizer/baselines/bounding_rasterizer.h"
 
@@ -83,6 +85,26 @@ class BoundingMethod : public VisibilityMethod {
     }
     std::unique_ptr<MethodFrame> start(const FrameInputs& in) const override {
         return std::make_unique<BoundingFrame>(in, bounding_);
+    }
+    // The bands' prepared samples are held with the film to the memory budget.
+    void check(const SceneDesc& scene, const RenderOptions& options, int workers) const override {
+        VisibilityMethod::check(scene, options, workers);
+        const FilmDesc& film = scene.film;
+        const std::uint64_t scratch = boundingBandScratchBytes(
+            film.width, film.height, film.samplesPerPixel, bounding_, workers);
+        const std::uint64_t total = filmBytes(film) + scratch;
+        if (total <= options.memoryBudgetBytes) return;
+        const auto mib = [](std::uint64_t bytes) {
+            return std::to_string((bytes + (1u << 20) - 1) >> 20);
+        };
+        throw InputError(scene.path, "film.spp",
+                         std::string("the ") + name_ + " method prepares " + mib(scratch) +
+                             " MiB of samples for the bands it rasterizes at once (--threads); "
+                             "with the film's " +
+                             mib(filmBytes(film)) + " MiB that is " + mib(total) +
+                             " MiB, over the memory budget of " +
+                             std::to_string(options.memoryBudgetBytes >> 20) +
+                             " MiB (--memory-budget-mib): use fewer samples or threads");
     }
     const RatioCounter& sampleTestEfficiency() const override {
         return boundingSampleTestEfficiency(bounding_);

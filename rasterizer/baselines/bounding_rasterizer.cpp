@@ -1,6 +1,7 @@
 #include "rasterizer/baselines/bounding_rasterizer.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <utility>
 
@@ -48,11 +49,19 @@ const Counter& intervalTimeStrataCounter() {
 }
 
 const char* triangleBoundName(TriangleBound bound) {
-    return bound == TriangleBound::Hull ? "hull" : "box";
+    switch (bound) {
+        case TriangleBound::Hull:
+            return "hull";
+        case TriangleBound::OrientedBox:
+            return "oriented";
+        case TriangleBound::Box:
+            return "box";
+    }
+    return "";
 }
 
 bool parseTriangleBound(const std::string& name, TriangleBound& out) {
-    for (TriangleBound b : {TriangleBound::Hull, TriangleBound::Box})
+    for (TriangleBound b : {TriangleBound::Hull, TriangleBound::OrientedBox, TriangleBound::Box})
         if (name == triangleBoundName(b)) {
             out = b;
             return true;
@@ -199,7 +208,7 @@ class BandRasterizer {
         const int spp = t_.opaque->samplesPerPixel();
         switch (o_.method) {
             case Bounding::TriangleBBox:
-                if (o_.bound == TriangleBound::Hull)
+                if (o_.bound != TriangleBound::Box)
                     hullBounds(mesh, tri, spp, work);
                 else
                     testRect(mesh, tri, spanBounds(mesh, v, 0.0f, 1.0f, work), 0, spp, -1, work);
@@ -243,30 +252,34 @@ class BandRasterizer {
         return true;
     }
 
-    PixelRect spanBounds(const MovingMesh& mesh, const std::uint32_t* v, float ta, float tb,
-                         BoundingWork& work) const {
+    // The screen box of the six vertex positions across the whole lens: one triangle set-up.
+    ScreenBox boxAcrossLens(const std::array<Vec3, 6>& points, BoundingWork& work) const {
         ScreenBox box;
-        for (int k = 0; k < 3; ++k) {
-            box.addAcrossLens(mesh.vertexAt(v[k], ta), c_.camera, c_.lens);
-            box.addAcrossLens(mesh.vertexAt(v[k], tb), c_.camera, c_.lens);
-        }
+        for (const Vec3& p : points) box.addAcrossLens(p, c_.camera, c_.lens);
         ++work.triangleSetups;
         work.fullScreenBounds += box.fullScreen;
-        return box.pixels(c_.camera);
+        return box;
     }
 
-    // McGuire et al.'s bound: the hull of the vertices' circles of confusion at both shutter ends,
-    // walked row by row; a sample of the pixels it reaches is ray-tested only inside it. A triangle
-    // reaching in front of the near plane, or whose hull has no area (seen edge-on), keeps the box.
+    PixelRect spanBounds(const MovingMesh& mesh, const std::uint32_t* v, float ta, float tb,
+                         BoundingWork& work) const {
+        return boxAcrossLens(
+                   {mesh.vertexAt(v[0], ta), mesh.vertexAt(v[0], tb), mesh.vertexAt(v[1], ta),
+                    mesh.vertexAt(v[1], tb), mesh.vertexAt(v[2], ta), mesh.vertexAt(v[2], tb)},
+                   work)
+            .pixels(c_.camera);
+    }
+
+    // McGuire et al.'s bound: the hull of the vertices' circles of confusion at both shutter ends
+    // (or the least-area rectangle that holds it), walked row by row; a sample of the pixels it
+    // reaches is ray-tested only inside it. A triangle reaching in front of the near plane, or
+    // whose hull has no area (seen edge-on), keeps the box.
     void hullBounds(const MovingMesh& mesh, std::uint32_t tri, int spp, BoundingWork& work) const {
         const std::uint32_t* v = &mesh.indices[3 * std::size_t(tri)];
-        ScreenBox box;
-        for (int k = 0; k < 3; ++k) {
-            box.addAcrossLens(mesh.position0[v[k]], c_.camera, c_.lens);
-            box.addAcrossLens(mesh.position1[v[k]], c_.camera, c_.lens);
-        }
-        ++work.triangleSetups;
-        work.fullScreenBounds += box.fullScreen;
+        const ScreenBox box =
+            boxAcrossLens({mesh.position0[v[0]], mesh.position1[v[0]], mesh.position0[v[1]],
+                           mesh.position1[v[1]], mesh.position0[v[2]], mesh.position1[v[2]]},
+                          work);
         ScreenHull hull;
         bool useHull = !box.fullScreen;  // else some vertex has no finite projection
         const float inverseFocus = c_.lens.radius > 0 ? 1.0f / c_.lens.focusDistance : 0.0f;
@@ -277,8 +290,9 @@ class BandRasterizer {
                     double(p.x / depth), double(p.y / depth),
                     double(c_.lens.radius * std::abs(1.0f / depth - inverseFocus)));
             }
-        useHull = useHull &&
-                  hull.build(double(kScreenBoundsMarginPixels) * screenUnitsPerPixel(c_.camera));
+        const double margin = double(kScreenBoundsMarginPixels) * screenUnitsPerPixel(c_.camera);
+        useHull = useHull && (o_.bound == TriangleBound::OrientedBox ? hull.buildOrientedBox(margin)
+                                                                     : hull.build(margin));
         testRect(mesh, tri, box.pixels(c_.camera), 0, spp, -1, work, useHull ? &hull : nullptr);
     }
 
@@ -383,6 +397,20 @@ void BoundingWork::flush(Bounding method) const {
 }
 
 void BoundingWork::charge(PatchOps& ops) const {PATCHSIM_BOUNDING_WORK(PATCHSIM_WORK_CHARGE)}
+
+std::uint64_t boundingBandScratchBytes(int width, int height, int samplesPerPixel, Bounding method,
+                                       int threads) {
+    constexpr int kBands = FramePartition::kClasses;
+    int tallest = 0;
+    for (int band = 0; band < kBands; ++band)
+        tallest = std::max(tallest, FramePartition::bandBegin(band + 1, height) -
+                                        FramePartition::bandBegin(band, height));
+    const std::uint64_t perSample = sizeof(BandSamples::Prepared) +
+                                    (method == Bounding::Interval ? 2 * sizeof(std::uint16_t) : 0);
+    const auto atOnce = std::uint64_t(std::clamp(threads, 1, kBands));
+    return atOnce * std::uint64_t(tallest) * std::uint64_t(width) * std::uint64_t(samplesPerPixel) *
+           perSample;
+}
 
 std::vector<BoundingWork> rasterizeByBounds(const std::vector<MovingMesh>& meshes,
                                             const RayCaster& caster,

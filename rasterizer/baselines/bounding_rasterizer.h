@@ -8,7 +8,9 @@
 //   vertices at both shutter ends, each widened by its circle of confusion (screen_hull.h),
 //   walked row by row as a rasterizer walks a polygon: a sample of the pixels it reaches is
 //   ray-tested only when it falls inside the hull (a 2D edge test, as a rasterizer's coverage
-//   test). With `TriangleBound::Box` every sample of the triangle's pixel box is ray-tested.
+//   test). With `TriangleBound::OrientedBox` the bound is the least-area rectangle, in any
+//   orientation, that holds that hull (four edge tests a sample); with `TriangleBound::Box`
+//   every sample of the triangle's pixel box is ray-tested.
 // - interval (Fatahalian et al. 2009): the shutter split into K strata; per stratum the bounds of
 //   the triangle over that stratum, and only that stratum's samples tested.
 // - interleaved (accumulation buffer): sample index s has one time, lens point and sub-pixel shift
@@ -44,8 +46,9 @@ namespace patchsim {
 
 enum class Bounding : std::uint8_t { TriangleBBox, Interval, Interleaved };
 
-// triangle-bbox's bound: the convex hull of the moving, defocused triangle, or its screen box.
-enum class TriangleBound : std::uint8_t { Hull, Box };
+// triangle-bbox's bound: the convex hull of the moving, defocused triangle, the least-area
+// rectangle (any orientation) that holds that hull, or its screen box.
+enum class TriangleBound : std::uint8_t { Hull, OrientedBox, Box };
 const char* triangleBoundName(TriangleBound bound);
 bool parseTriangleBound(const std::string& name, TriangleBound& out);
 
@@ -66,7 +69,7 @@ bool parseTriangleBound(const std::string& name, TriangleBound& out);
       Op::RayTriangleTests)                                                                      \
     X(samplesOutsideHull, "Samples outside the hull", "samples", Sum,                            \
       "Samples of the pixels a triangle's hull bound reaches found outside the hull by its 2D "  \
-      "edge test, so not ray-tested (triangle-bbox with the hull bound)",                        \
+      "edge test, so not ray-tested (triangle-bbox with the hull or oriented-box bound)",        \
       Op::SamplesTested)                                                                         \
     X(visibilitySamples, "Visibility samples", "samples", Sum,                                   \
       "Tests that found a hit nearer than the sample's z-buffer entry", Op::DepthTests)          \
@@ -108,6 +111,12 @@ struct BoundingOptions {
     // The bands of rows this process rasterizes.
     FramePartition partition;
 };
+
+// The bytes of samples prepared ahead (screen position, lens, time; and for the interval method
+// each sample's stratum order) that the bands rasterized at once hold: min(threads, bands) bands
+// of the tallest band's rows. A render holds them to the memory budget with the film.
+std::uint64_t boundingBandScratchBytes(int width, int height, int samplesPerPixel, Bounding method,
+                                       int threads);
 
 // Visibility of every mesh into `targets` (whose buffer must hold the frame); returns each
 // mesh's work. Counters are not flushed.

@@ -22,6 +22,45 @@ bool ScreenHull::addBlurredPoint(double x, double y, double spread) {
 }
 
 bool ScreenHull::build(double margin) {
+    if (!chain()) return false;
+    setEdges(margin);
+    return true;
+}
+
+bool ScreenHull::buildOrientedBox(double margin) {
+    if (!chain()) return false;
+    // The rectangle of least area has a side on a hull edge (Freeman and Shapira 1975): try each
+    // edge's direction u (and its left normal v), and keep the smallest extent box in (u, v).
+    double best = INFINITY, ux = 1, uy = 0, lo[2] = {0, 0}, hi[2] = {0, 0};
+    for (int i = 0; i < corners_; ++i) {
+        const Point& a = hull_[std::size_t(i)];
+        const Point& b = hull_[std::size_t(i + 1)];
+        const double length = std::hypot(b.x - a.x, b.y - a.y);
+        const double dx = (b.x - a.x) / length, dy = (b.y - a.y) / length;
+        double l[2] = {INFINITY, INFINITY}, h[2] = {-INFINITY, -INFINITY};
+        for (int k = 0; k < corners_; ++k) {
+            const Point& p = hull_[std::size_t(k)];
+            const double pu = dx * p.x + dy * p.y, pv = -dy * p.x + dx * p.y;
+            l[0] = std::min(l[0], pu), h[0] = std::max(h[0], pu);
+            l[1] = std::min(l[1], pv), h[1] = std::max(h[1], pv);
+        }
+        const double area = (h[0] - l[0]) * (h[1] - l[1]);
+        if (area < best) {
+            best = area, ux = dx, uy = dy;
+            lo[0] = l[0], lo[1] = l[1], hi[0] = h[0], hi[1] = h[1];
+        }
+    }
+    // Its corners counter-clockwise (v is u turned left): p = pu u + pv v.
+    const double us[4] = {lo[0], hi[0], hi[0], lo[0]}, vs[4] = {lo[1], lo[1], hi[1], hi[1]};
+    for (int k = 0; k < 4; ++k)
+        hull_[std::size_t(k)] = {us[k] * ux - vs[k] * uy, us[k] * uy + vs[k] * ux};
+    hull_[4] = hull_[0];
+    corners_ = 4;
+    setEdges(margin);
+    return true;
+}
+
+bool ScreenHull::chain() {
     corners_ = 0;
     if (refused_) return false;
     auto* first = points_.data();
@@ -49,8 +88,12 @@ bool ScreenHull::build(double margin) {
         hull_[std::size_t(k++)] = points_[std::size_t(i)];
     }
     corners_ = std::max(0, k - 1);  // the last point repeats the first
+    if (corners_ < 3) corners_ = 0;
+    return corners_ >= 3;
+}
+
+void ScreenHull::setEdges(double margin) {
     margin_ = margin;
-    if (corners_ < 3) return false;
     lo_[0] = lo_[1] = INFINITY;
     hi_[0] = hi_[1] = -INFINITY;
     for (int i = 0; i < corners_; ++i) {
@@ -65,7 +108,6 @@ bool ScreenHull::build(double margin) {
         lo_[1] = std::min(lo_[1], a.y - margin);
         hi_[1] = std::max(hi_[1], a.y + margin);
     }
-    return true;
 }
 
 bool ScreenHull::contains(Vec2 p) const {

@@ -43,6 +43,10 @@ class ScreenHull {
     // (fewer than three corners) or a point was refused: the caller keeps a box for such a
     // primitive.
     bool build(double margin);
+    // Instead of the hull, the rectangle of least area that holds it (any orientation), widened
+    // by `margin` the same way: the oriented box a rasterizer may bound the primitive by. Its
+    // corners are rounded in double, some 1e-16 of the screen's extent, far below the margin.
+    bool buildOrientedBox(double margin);
 
     bool contains(Vec2 p) const;
     // Separating axes: the rectangle's two and each hull edge's normal.
@@ -60,6 +64,8 @@ class ScreenHull {
     double upper(int axis) const { return hi_[axis]; }
 
   private:
+    bool chain();  // the hull's corners into hull_ (counter-clockwise); false without area
+    void setEdges(double margin);
     struct Point {
         double x, y;
     };

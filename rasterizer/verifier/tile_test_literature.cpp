@@ -5,6 +5,8 @@
 // - triangle-hull (McGuire et al. 2010): the convex hull of the primitive's vertices at both
 //   shutter ends, each widened by its circle of confusion (rasterizer/common/screen_hull.h, the
 //   bound the triangle-bbox method uses by default), against the tile by separating axes.
+// - triangle-oriented-box: the least-area rectangle, in any orientation, that holds that hull
+//   (triangle-bbox's --bbox-bound oriented), against the tile by separating axes.
 // - interval-K (Fatahalian et al. 2009): the shutter in K strata, a screen box per stratum; the
 //   tile's time range is the hull of the strata whose box it overlaps.
 // - dual-space (Laine et al. 2011, "Clipless dual-space bounds for faster stochastic
@@ -60,7 +62,10 @@ class TriangleBBox : public TileTestVariant {
 
 class TriangleHull : public TileTestVariant {
   public:
-    std::string name() const override { return "triangle-hull"; }
+    explicit TriangleHull(bool orientedBox) : orientedBox_(orientedBox) {}
+    std::string name() const override {
+        return orientedBox_ ? "triangle-oriented-box" : "triangle-hull";
+    }
     TileTestOutput run(const TileTestInput& in) const override {
         const ScreenTile tile = makeScreenTile(*in.camera, in.tile, in.camera->farPlane());
         const float inverseFocus = in.lens.radius > 0 ? 1.0f / in.lens.focusDistance : 0.0f;
@@ -75,9 +80,13 @@ class TriangleHull : public TileTestVariant {
                     double(in.lens.radius * std::abs(1.0f / depth - inverseFocus)));
             }
         const double margin = double(kScreenBoundsMarginPixels) * screenUnitsPerPixel(*in.camera);
-        if (!hull.build(margin)) return {spanOverlapsTile(in, tile, 0.0f, 1.0f)};
+        if (!(orientedBox_ ? hull.buildOrientedBox(margin) : hull.build(margin)))
+            return {spanOverlapsTile(in, tile, 0.0f, 1.0f)};
         return {hull.overlapsRect(tile.x0, tile.y0, tile.x1, tile.y1)};
     }
+
+  private:
+    bool orientedBox_;
 };
 
 class IntervalBounds : public TileTestVariant {
@@ -196,7 +205,8 @@ class DualSpaceBounds : public TileTestVariant {
 
 void addLiteratureTileTests(std::vector<std::unique_ptr<TileTestVariant>>& out) {
     out.push_back(std::make_unique<TriangleBBox>());
-    out.push_back(std::make_unique<TriangleHull>());
+    out.push_back(std::make_unique<TriangleHull>(false));
+    out.push_back(std::make_unique<TriangleHull>(true));
     out.push_back(std::make_unique<IntervalBounds>(4));
     out.push_back(std::make_unique<IntervalBounds>(16));
     out.push_back(std::make_unique<DualSpaceBounds>());
