@@ -26,11 +26,13 @@ usage: scripts/crossover-map.py OUT [--scenes S...] [--blur B...] [--spp N...] [
 import argparse
 import csv
 import pathlib
+import re
 import subprocess
 import sys
 
 ROOT = pathlib.Path(__file__).resolve().parent.parent
 METHODS = ["patch", "interval", "triangle-bbox"]
+LABEL = re.compile(r"(.+?)-blur(\d+(?:\.\d+)?(?:e[+-]?\d+)?)(-\d+)?")
 COLOURS = {"patch": "#3b75af", "interval": "#ef8636", "triangle-bbox": "#519e3e"}
 
 
@@ -39,11 +41,16 @@ def read_results(paths):
     for path in paths:
         with open(path) as f:
             for row in csv.DictReader(f):
-                if row["method"] not in METHODS:
+                # Each method at the setting it was run with by default (its paper's); rows of
+                # other settings (sweep --vary) are not this map's.
+                if row["method"] not in METHODS or row.get("setting", ""):
                     continue
-                name, _, blur = row["scene"].rpartition("-blur")
-                if not name:  # blur 1 keeps the scene's own name
-                    name, blur = row["scene"], "1"
+                # "<scene>-blur<scale>", or the scene's own name at blur 1; a "-2" after it is
+                # patchsim's mark of a label used twice, which would mix two scenes' runs.
+                match = LABEL.fullmatch(row["scene"])
+                if match and match.group(3):
+                    sys.exit(f"{path}: scene label {row['scene']} was used twice in the sweep")
+                name, blur = (match.group(1), match.group(2)) if match else (row["scene"], "1")
                 rows.append({"scene": name, "blur": float(blur), "spp": int(row["spp"]),
                              "method": row["method"], "cycles": float(row["modelled_cycles"]),
                              "wall": float(row["wall_seconds"])})
