@@ -275,14 +275,15 @@ TEST(BoundingRasterizer, TrianglesBehindTheCameraAtBothEndsAreCulledWithoutATest
     }
 }
 
-// The samples each band prepares ahead count against the memory budget with the film: a render
+// The samples and rays each band prepares ahead (64 bytes a sample; 68 with the interval method's
+// stratum order) count against the memory budget with the film: a render
 // whose film fits but whose bands' samples do not is refused before it starts, naming film.spp.
 TEST(BoundingRasterizer, TheBandsPreparedSamplesCountAgainstTheMemoryBudget) {
     const SceneDesc scene = small("scenes/motion.json");  // 48 x 36 at 4 spp: 16 bands of 2-3 rows
     EXPECT_EQ(boundingBandScratchBytes(48, 36, 4, Bounding::TriangleBBox, 2),
-              2u * 3u * 48u * 4u * 28u);
+              2u * 3u * 48u * 4u * 64u);
     EXPECT_EQ(boundingBandScratchBytes(48, 36, 4, Bounding::Interval, 64),
-              16u * 3u * 48u * 4u * 32u)
+              16u * 3u * 48u * 4u * 68u)
         << "no more bands at once than there are bands";
     for (const char* name : {"triangle-bbox", "interval", "interleaved"}) {
         const VisibilityMethod& method = methodNamed(name);

@@ -131,17 +131,20 @@ struct ScreenBox {
     }
 };
 
-// A band's samples, made once before its triangles, as the patch method keeps its tile rays:
-// the generator's hashing and permutations cost more than the ray-triangle test they would feed,
-// and a sample is tested against every triangle whose bound holds it. For the interval method
+// A band's samples and their rays, made once before its triangles, as the patch method keeps its
+// tile rays: the generator's hashing and permutations, the lens mapping and the ray's shear cost
+// more than the ray-triangle test they would feed, and a sample is tested against every triangle
+// whose bound holds it. For the interval method
 // each pixel's samples are also listed in order of time stratum, so a stratum's samples are a
 // range found by binary search, not a scan of the pixel's samples once per stratum.
 struct BandSamples {
     struct Prepared {
-        Vec2 screen;    // on the z = -1 plane
-        Vec2 lensDisk;  // the lens sample on the unit disk
-        Vec2 lens;      // the lens sample in [0,1)^2, for the record
+        ShearedRay ray;  // the sample's ray, sheared for the watertight triangle test
+        Vec2 screen;     // on the z = -1 plane
+        Vec2 lens;       // the lens sample in [0,1)^2, for the record
         float time;
+        float lambdaMin;  // the near plane along the ray
+        float depthPerLambda;
     };
     std::vector<Prepared> prepared;        // (row - y0, x, s), like the buffer's order
     std::vector<std::uint16_t> byStratum;  // per pixel, spp sample indices in order of stratum
@@ -153,9 +156,13 @@ struct BandSamples {
             for (int x = 0; x < width; ++x)
                 for (int s = 0; s < spp; ++s) {
                     const Sample smp = c.samples.sample(x, y, s);
-                    prepared[index(y - y0, x, s, width, spp)] = {
-                        rasterToScreen(c.camera, Vec2(float(x), float(y)) + smp.pixelOffset),
-                        concentricDisk(smp.lens), smp.lens, smp.time};
+                    const Vec2 screen =
+                        rasterToScreen(c.camera, Vec2(float(x), float(y)) + smp.pixelOffset);
+                    const Ray ray =
+                        makeCameraRay(c.camera, screen, concentricDisk(smp.lens), smp.time, c.lens);
+                    prepared[index(y - y0, x, s, width, spp)] = {shearRay(ray), screen,
+                                                                 smp.lens,      smp.time,
+                                                                 ray.lambdaMin, ray.depthPerLambda};
                 }
         if (strata > 0) orderByStratum(spp, strata);
     }
@@ -329,16 +336,15 @@ class BandRasterizer {
             return;
         }
         ++work.samplesTested;
-        Ray ray = makeCameraRay(c_.camera, smp.screen, smp.lensDisk, smp.time, c_.lens);
-        ray.lambdaMax = rayEndAtDepth(buffer.depthBound(x, y, s), ray.depthPerLambda);
+        const float lambdaMax = rayEndAtDepth(buffer.depthBound(x, y, s), smp.depthPerLambda);
         const std::uint32_t* v = &mesh.indices[3 * std::size_t(tri)];
         TriangleHit hit;
-        if (!intersectTriangle(shearRay(ray), mesh.vertexAt(v[0], ray.time),
-                               mesh.vertexAt(v[1], ray.time), mesh.vertexAt(v[2], ray.time),
-                               ray.lambdaMin, ray.lambdaMax, hit))
+        if (!intersectTriangle(smp.ray, mesh.vertexAt(v[0], smp.time),
+                               mesh.vertexAt(v[1], smp.time), mesh.vertexAt(v[2], smp.time),
+                               smp.lambdaMin, lambdaMax, hit))
             return;
         const VisibilityRecord record{
-            hit.lambda * ray.depthPerLambda, mesh.patchId, tri, hit.b1, hit.b2, smp.time, smp.lens};
+            hit.lambda * smp.depthPerLambda, mesh.patchId, tri, hit.b1, hit.b2, smp.time, smp.lens};
         if (!mesh.opaque && t_.transparent != nullptr) {
             ++work.transparentFragments;
             if (!t_.transparent->offer(buffer.index(x, y, s), t_.pool, {record, mesh.objectId}))

@@ -112,9 +112,9 @@ struct BoundingOptions {
     FramePartition partition;
 };
 
-// The bytes of samples prepared ahead (screen position, lens, time; and for the interval method
-// each sample's stratum order) that the bands rasterized at once hold: min(threads, bands) bands
-// of the tallest band's rows. A render holds them to the memory budget with the film.
+// The bytes of samples prepared ahead (ray, screen position, lens, time; and for the interval
+// method each sample's stratum order) that the bands rasterized at once hold: min(threads, bands)
+// bands of the tallest band's rows. A render holds them to the memory budget with the film.
 std::uint64_t boundingBandScratchBytes(int width, int height, int samplesPerPixel, Bounding method,
                                        int threads);
 
