@@ -728,7 +728,13 @@ TEST(Cli, SweepVariesEachMethodsOwnParametersAndMarksItsParetoBest) {
           {"--vary bbox-bound=hull,round", "--vary: bbox-bound: 'round' is not one of"},
           {"--vary time-strata=4 --vary time-strata=8", "--vary: varies 'time-strata' twice"},
           {"--vary edge-threshold=0.9,inf", "--vary: edge-threshold: expected a finite number"},
-          {"--vary leaf-size", "--vary: expected NAME=V1,V2,..., found 'leaf-size'"}}) {
+          {"--vary leaf-size", "--vary: expected NAME=V1,V2,..., found 'leaf-size'"},
+          {"--vary time-strata=4,04", "--vary: time-strata: the list '4,04' repeats an item"},
+          {"--vary edge-threshold=0.9,0.90", "--vary: edge-threshold: the list"},
+          {"--vary 'leaf-size= 4,2'", "--vary: leaf-size: ' 4' has blanks"},
+          {"--methods patch --vary pp-tile-size=10,20",
+           "--vary: pp-tile-size is a parameter of postprocess and hybrid, none of which "
+           "--methods runs"}}) {
         const CommandResult e =
             run(std::string("sweep --no-progress -o ") + refused + " " + option);
         EXPECT_EQ(e.exitCode, 2) << option << "\n" << e.output;

@@ -34,6 +34,21 @@ std::string numberText(double v) {
     return text;
 }
 
+// A sweep axis belongs to the methods whose parameter it is: a rasterizer option to every method
+// that renders through the patch rasterizer, and only to them.
+TEST(JobOptions, SweepAxesBelongToTheMethodsTheyChange) {
+    const SweepAxis leaf = parseSweepAxis("leaf-size=2,4");
+    EXPECT_EQ(leaf.methods,
+              (std::vector<std::string>{"patch", "postprocess", "hybrid", "reprojection"}));
+    EXPECT_EQ(leaf.values, (std::vector<std::string>{"2", "4"}));
+    const SweepAxis tile = parseSweepAxis("pp-tile-size=10,20");
+    EXPECT_EQ(tile.methods, (std::vector<std::string>{"postprocess", "hybrid"}));
+    EXPECT_EQ(parseSweepAxis("time-strata=0,4").methods, std::vector<std::string>{"interval"});
+    // One value written two ways is one run, not two.
+    EXPECT_THROW(parseSweepAxis("time-strata=4,04"), InputError);
+    EXPECT_THROW(parseSweepAxis("soft-z-extent=0.05,0.050"), InputError);
+}
+
 TEST(JobOptions, EveryNumberIsFiniteAndInRange) {
     int reals = 0;
     for (const JobOption& o : jobOptions()) {

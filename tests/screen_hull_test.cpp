@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <random>
 #include <vector>
@@ -81,7 +82,13 @@ TEST(ScreenHull, TheOrientedBoxIsTheLeastAreaRectangleHoldingTheHull) {
         ASSERT_TRUE(hull.build(0.0));
         ASSERT_TRUE(box.buildOrientedBox(1e-6));  // above the points' rounding to float
         EXPECT_GE(box.area(), hull.area() * (1 - 1e-12));
-        EXPECT_LE(box.area(), (box.upper(0) - box.lower(0)) * (box.upper(1) - box.lower(1)));
+        double lo[2] = {INFINITY, INFINITY}, hi[2] = {-INFINITY, -INFINITY};
+        for (auto [x, y] : points) {
+            lo[0] = std::min(lo[0], x), hi[0] = std::max(hi[0], x);
+            lo[1] = std::min(lo[1], y), hi[1] = std::max(hi[1], y);
+        }
+        EXPECT_LE(box.area(), (hi[0] - lo[0]) * (hi[1] - lo[1]) * (1 + 1e-12))
+            << "no larger than the points' screen box";
         for (auto [x, y] : points) EXPECT_TRUE(box.contains(Vec2(float(x), float(y)))) << trial;
     }
 }

@@ -439,10 +439,18 @@ std::vector<SweepVariant> sweepVariants(const JobSettings& s) {
         const auto runs = [&](const std::string& m) {
             return std::find(s.methods.begin(), s.methods.end(), m) != s.methods.end();
         };
-        if (std::none_of(axis.methods.begin(), axis.methods.end(), runs))
+        if (std::none_of(axis.methods.begin(), axis.methods.end(), runs)) {
+            std::string owners;
+            for (std::size_t k = 0; k < axis.methods.size(); ++k)
+                owners += (k == 0                         ? ""
+                           : k + 1 == axis.methods.size() ? " and "
+                                                          : ", ") +
+                          axis.methods[k];
             throw InputError("command line", "--vary",
-                             axis.name + " is a parameter of " + axis.methods.front() +
-                                 ", which --methods does not run");
+                             axis.name + " is a parameter of " + owners + ", " +
+                                 (axis.methods.size() == 1 ? "which --methods does not run"
+                                                           : "none of which --methods runs"));
+        }
     }
     std::vector<SweepVariant> variants;
     for (const std::string& name : s.methods) {

@@ -82,8 +82,9 @@ std::vector<JobOption> makeTable() {
           "A method parameter's values, NAME=V1,V2,... (repeatable): the method runs at "
           "every combination of its own parameters' values, e.g. time-strata=0,4,16, "
           "bbox-bound=hull,oriented,box, edge-threshold=0.9,0.98, tfragment-limit=128,4096, "
-          "or a rasterizer option of the patch method (leaf-size=2,4,8); results.csv marks "
-          "each method's Pareto-best settings and best.csv lists them"));
+          "or a rasterizer option of the methods that rasterize patches (leaf-size=2,4,8); "
+          "its values replace the option's own; results.csv marks each method's Pareto-best "
+          "settings and best.csv lists them"));
     t.push_back(O("--converged-spp", kSweep, K::Integer, &S::convergedSpp,
                   "Samples per pixel of the converged image (0: 16 x the largest --spp)")
                     .in(0, 1 << 20));
@@ -445,14 +446,23 @@ std::string sweepAxisNames() {
     return names;
 }
 
-// Checks one value of an axis by its option's own rule; returns an error message.
-std::string checkAxisValue(const SweepAxis& axis, const std::string& value) {
+// Checks one value of an axis by its option's own rule and gives it as that option reads it back
+// ("04" as "4", "0.90" as "0.899999976"), so two texts of one value are found; returns an error
+// message.
+std::string checkAxisValue(const SweepAxis& axis, const std::string& value, std::string& held) {
+    // A blank would go into file names and CSV fields; the rasterizer's JSON reading skips it.
+    if (value.find_first_of(" \t\n\r") != std::string::npos) return inQuotes(value) + " has blanks";
+    std::string error;
     if (axis.option) {
         JobSettings scratch;
-        return apply(*axis.option, value, scratch);
+        if ((error = apply(*axis.option, value, scratch)).empty())
+            held = jobOptionValue(*axis.option, scratch);
+        return error;
     }
     RasterizerOptions scratch;
-    return axis.field->set(scratch, optionValueFromText(value));
+    if ((error = axis.field->set(scratch, optionValueFromText(value))).empty())
+        held = axis.field->get(scratch);
+    return error;
 }
 
 std::string checkSweepAxis(const std::string& text, SweepAxis* out) {
@@ -469,15 +479,18 @@ std::string checkSweepAxis(const std::string& text, SweepAxis* out) {
     if (axis.option) {
         axis.methods = axis.option->methods;
     } else if (axis.field) {
-        axis.methods = {"patch"};  // the patent's design options
+        for (const VisibilityMethod* m : visibilityMethods())  // the patent's design options
+            if (m->rasterizesPatches()) axis.methods.push_back(m->name());
     } else {
         return inQuotes(axis.name) + " is not a method parameter; one of " + sweepAxisNames();
     }
     std::string error = splitList(text.substr(eq + 1), axis.values);
     if (!error.empty()) return axis.name + ": " + error;
-    for (const std::string& value : axis.values)
-        if (!(error = checkAxisValue(axis, value)).empty()) return axis.name + ": " + error;
-    if (!(error = checkDistinct(axis.values, text.substr(eq + 1))).empty())
+    std::vector<std::string> held(axis.values.size());
+    for (std::size_t i = 0; i < axis.values.size(); ++i)
+        if (!(error = checkAxisValue(axis, axis.values[i], held[i])).empty())
+            return axis.name + ": " + error;
+    if (!(error = checkDistinct(held, text.substr(eq + 1))).empty())
         return axis.name + ": " + error;
     if (out) *out = std::move(axis);
     return {};

@@ -212,10 +212,8 @@ namespace {
 // Every run's film and the rasterizer's scratch against the memory budget, before the first run:
 // a run over budget must not be found after hours of earlier runs.
 void checkEveryRun(const std::vector<SweepScene>& scenes, const SweepOptions& o, int convergedSpp) {
-    std::vector<int> spps = o.samplesPerPixel;
-    spps.push_back(std::min(convergedSpp, kConvergedSamplesPerPass));
     for (const SweepScene& s : scenes) {
-        for (int spp : spps) {
+        for (int spp : o.samplesPerPixel) {
             checkMemoryBudget(variantScene(s, {}, spp).film, o.limits, s.label, "--spp");
             for (const SweepVariant& v : o.variants) {
                 const SceneDesc scene = variantScene(s, v, spp);
@@ -225,6 +223,14 @@ void checkEveryRun(const std::vector<SweepScene>& scenes, const SweepOptions& o,
                 checkRender(scene, options);
             }
         }
+        // The converged image: the patch method at the scene's own settings, in passes.
+        const int spp = std::min(convergedSpp, kConvergedSamplesPerPass);
+        const SceneDesc scene = variantScene(s, {}, spp);
+        checkMemoryBudget(scene.film, o.limits, s.label, "--converged-spp");
+        scene.rasterizer.validateTileSamples(spp, s.label);
+        RenderOptions options = o.render;
+        options.method = nullptr;
+        checkRender(scene, options);
     }
 }
 

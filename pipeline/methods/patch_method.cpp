@@ -87,6 +87,7 @@ class PatchMethod : public VisibilityMethod {
     const char* after() const override { return "US 8,791,945: moving-box hierarchy per patch"; }
     bool exact() const override { return true; }
     bool countsPerPixel() const override { return true; }
+    bool rasterizesPatches() const override { return true; }
     void check(const SceneDesc& scene, const RenderOptions& options, int workers) const override {
         VisibilityMethod::check(scene, options, workers);
         checkTileScratch(scene, options, workers);

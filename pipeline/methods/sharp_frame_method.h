@@ -10,6 +10,7 @@ class SharpFrameMethod : public VisibilityMethod {
   public:
     bool exact() const override { return false; }
     bool countsPerPixel() const override { return true; }
+    bool rasterizesPatches() const override { return true; }
     // Every sample at `sharpTime()`, through a pinhole.
     SampleGenerator makeSamples(const FilmDesc& film, const Effects& effects) const override;
     void check(const SceneDesc& scene, const RenderOptions& options, int workers) const override;

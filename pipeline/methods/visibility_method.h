@@ -104,6 +104,8 @@ class VisibilityMethod {
     virtual bool exact() const = 0;         // the reference's nearest hits for the same samples
     // Counts its work per pixel (heat maps).
     virtual bool countsPerPixel() const { return false; }
+    // Renders through the patch rasterizer, so the scene's rasterizer options change its work.
+    virtual bool rasterizesPatches() const { return false; }
     // Can split a frame between processes (FramePartition).
     virtual bool splitsFrames() const { return true; }
 
