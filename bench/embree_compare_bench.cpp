@@ -3,6 +3,9 @@
 // through a BVH over the same tessellated, camera-space triangles (two time steps and linear
 // motion when anything moves; the same rays: same origins, directions and times).
 //
+// Embree traces each frame three ways (one ray at a time; a pixel's samples as a coherent 16-ray
+// packet; a band's rows as one coherent stream), so every row can be compared with its fastest.
+//
 // Both read the frame's samples from one table made before timing (the sampler is not
 // visibility work); each makes its rays inside its timed loop. Embree's BVH is built outside its
 // timed loop, the patch rasterizer's hierarchies inside. Arguments: scene, blur level, lens,
@@ -186,61 +189,147 @@ RTCScene buildEmbreeScene(RTCDevice device, const Frame& f) {
     return scene;
 }
 
-// Every sample of rows [y0, y1) traced; returns the hits.
-std::int64_t traceRows(RTCScene scene, const Frame& f, int y0, int y1) {
+// How Embree is asked to trace (docs/PERFORMANCE.md): one ray at a time; a pixel's samples as
+// coherent packets of 16; a band's rows as one coherent stream. The packet and stream calls are
+// Embree's own fast paths for primary rays, which share an origin region and a direction.
+enum class EmbreeApi : std::uint8_t { OneRay, Packet16, Stream };
+constexpr const char* kApiNames[] = {"embree", "embreePacket16", "embreeStream"};
+constexpr int kBand = 8;  // rows a worker takes at a time
+
+// Sample s of pixel (x, y) as Embree's ray.
+template <class RayHit>
+void setRay(RayHit& rh, const Frame& f, int x, int y, int s) {
     const Camera& camera = f.frontEnd->camera();
+    const Sample& sample = f.table->pixel(x, y)[s];
+    const Vec2 raster = Vec2(float(x), float(y)) + sample.pixelOffset;
+    const Ray ray = makeCameraRay(camera, rasterToScreen(camera, raster), f.table->disk(x, y)[s],
+                                  sample.time, f.lens);
+    rh.ray.org_x = ray.origin.x;
+    rh.ray.org_y = ray.origin.y;
+    rh.ray.org_z = ray.origin.z;
+    rh.ray.dir_x = ray.direction.x;
+    rh.ray.dir_y = ray.direction.y;
+    rh.ray.dir_z = ray.direction.z;
+    rh.ray.tnear = ray.lambdaMin;
+    rh.ray.tfar = ray.lambdaMax;
+    rh.ray.time = ray.time;
+    rh.ray.mask = ~0u;
+    rh.ray.flags = 0;
+    rh.ray.id = 0;
+    rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+    rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+}
+
+// Every sample of rows [y0, y1) traced one ray at a time; returns the hits.
+std::int64_t traceRows(RTCScene scene, const Frame& f, int y0, int y1) {
     RTCIntersectContext context;
     rtcInitIntersectContext(&context);
     std::int64_t hits = 0;
-    for (int y = y0; y < y1; ++y) {
-        for (int x = 0; x < f.scene.film.width; ++x) {
-            const Sample* pixel = f.table->pixel(x, y);
-            const Vec2* disk = f.table->disk(x, y);
+    for (int y = y0; y < y1; ++y)
+        for (int x = 0; x < f.scene.film.width; ++x)
             for (int s = 0; s < f.scene.film.samplesPerPixel; ++s) {
-                const Vec2 raster = Vec2(float(x), float(y)) + pixel[s].pixelOffset;
-                const Ray ray = makeCameraRay(camera, rasterToScreen(camera, raster), disk[s],
-                                              pixel[s].time, f.lens);
                 RTCRayHit rh;
-                rh.ray.org_x = ray.origin.x;
-                rh.ray.org_y = ray.origin.y;
-                rh.ray.org_z = ray.origin.z;
-                rh.ray.dir_x = ray.direction.x;
-                rh.ray.dir_y = ray.direction.y;
-                rh.ray.dir_z = ray.direction.z;
-                rh.ray.tnear = ray.lambdaMin;
-                rh.ray.tfar = ray.lambdaMax;
-                rh.ray.time = ray.time;
-                rh.ray.mask = ~0u;
-                rh.ray.flags = 0;
-                rh.ray.id = 0;
-                rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
-                rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+                setRay(rh, f, x, y, s);
                 rtcIntersect1(scene, &context, &rh);
                 hits += rh.hit.geomID != RTC_INVALID_GEOMETRY_ID;
             }
-        }
-    }
     return hits;
 }
 
-void embree(benchmark::State& state, int sceneIndex, int blur, bool lens, int threads) {
+// The same, a pixel's samples as packets of 16 (lanes past the pixel's last sample invalid).
+std::int64_t tracePackets(RTCScene scene, const Frame& f, int y0, int y1) {
+    RTCIntersectContext context;
+    rtcInitIntersectContext(&context);
+    context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+    const int spp = f.scene.film.samplesPerPixel;
+    alignas(64) RTCRayHit16 packet;
+    alignas(64) int valid[16];
+    std::int64_t hits = 0;
+    for (int y = y0; y < y1; ++y)
+        for (int x = 0; x < f.scene.film.width; ++x)
+            for (int first = 0; first < spp; first += 16) {
+                const int lanes = std::min(16, spp - first);
+                for (int lane = 0; lane < 16; ++lane) valid[lane] = lane < lanes ? -1 : 0;
+                for (int lane = 0; lane < lanes; ++lane) {
+                    RTCRayHit one;
+                    setRay(one, f, x, y, first + lane);
+                    packet.ray.org_x[lane] = one.ray.org_x;
+                    packet.ray.org_y[lane] = one.ray.org_y;
+                    packet.ray.org_z[lane] = one.ray.org_z;
+                    packet.ray.dir_x[lane] = one.ray.dir_x;
+                    packet.ray.dir_y[lane] = one.ray.dir_y;
+                    packet.ray.dir_z[lane] = one.ray.dir_z;
+                    packet.ray.tnear[lane] = one.ray.tnear;
+                    packet.ray.tfar[lane] = one.ray.tfar;
+                    packet.ray.time[lane] = one.ray.time;
+                    packet.ray.mask[lane] = one.ray.mask;
+                    packet.ray.flags[lane] = 0;
+                    packet.ray.id[lane] = unsigned(lane);
+                    packet.hit.geomID[lane] = RTC_INVALID_GEOMETRY_ID;
+                    packet.hit.instID[0][lane] = RTC_INVALID_GEOMETRY_ID;
+                }
+                rtcIntersect16(valid, scene, &context, &packet);
+                for (int lane = 0; lane < lanes; ++lane)
+                    hits += packet.hit.geomID[lane] != RTC_INVALID_GEOMETRY_ID;
+            }
+    return hits;
+}
+
+// The same, a band's rows as one coherent stream of rays in `stream` (the band's sample count).
+std::int64_t traceStream(RTCScene scene, const Frame& f, int y0, int y1,
+                         std::vector<RTCRayHit>& stream) {
+    RTCIntersectContext context;
+    rtcInitIntersectContext(&context);
+    context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+    const int spp = f.scene.film.samplesPerPixel;
+    std::size_t n = 0;
+    for (int y = y0; y < y1; ++y)
+        for (int x = 0; x < f.scene.film.width; ++x)
+            for (int s = 0; s < spp; ++s) setRay(stream[n++], f, x, y, s);
+    rtcIntersect1M(scene, &context, stream.data(), unsigned(n), sizeof(RTCRayHit));
+    std::int64_t hits = 0;
+    for (std::size_t i = 0; i < n; ++i) hits += stream[i].hit.geomID != RTC_INVALID_GEOMETRY_ID;
+    return hits;
+}
+
+void embree(benchmark::State& state, int sceneIndex, int blur, bool lens, int threads,
+            EmbreeApi api) {
     const Frame& f = frame(sceneIndex, blur, lens);
     const std::string config = "threads=" + std::to_string(threads);
     RTCDevice device = rtcNewDevice(config.c_str());
     RTCScene scene = buildEmbreeScene(device, f);
     // Rows in bands of 8 taken by the next free worker, like the patch rasterizer's tiles.
-    constexpr int kBand = 8;
-    const int bands = (f.scene.film.height + kBand - 1) / kBand;
+    const int height = f.scene.film.height;
+    const int bands = (height + kBand - 1) / kBand;
     std::vector<std::int64_t> bandHits(static_cast<std::size_t>(bands), 0);
+    // A stream buffer per worker, made before timing.
+    std::vector<std::vector<RTCRayHit>> streams(
+        api == EmbreeApi::Stream ? std::size_t(resolveThreadCount(threads)) : 0,
+        std::vector<RTCRayHit>(std::size_t(kBand) * std::size_t(f.scene.film.width) *
+                               std::size_t(f.scene.film.samplesPerPixel)));
     std::int64_t hits = 0;
     for (auto _ : state) {
-        parallelFor(std::size_t(bands), threads, [&](int, std::size_t b) {
-            const int y0 = int(b) * kBand;
-            bandHits[b] = traceRows(scene, f, y0, std::min(y0 + kBand, f.scene.film.height));
+        parallelFor(std::size_t(bands), threads, [&](int worker, std::size_t b) {
+            const int y0 = int(b) * kBand, y1 = std::min(y0 + kBand, height);
+            switch (api) {
+                case EmbreeApi::OneRay:
+                    bandHits[b] = traceRows(scene, f, y0, y1);
+                    break;
+                case EmbreeApi::Packet16:
+                    bandHits[b] = tracePackets(scene, f, y0, y1);
+                    break;
+                case EmbreeApi::Stream:
+                    bandHits[b] = traceStream(scene, f, y0, y1, streams[std::size_t(worker)]);
+                    break;
+            }
         });
         hits = 0;
         for (std::int64_t h : bandHits) hits += h;
     }
+    // A call this Embree build does not support (a packet width it was built without) only sets
+    // the device's error and traces nothing: such a row must not pass for a fast one.
+    if (const RTCError error = rtcGetDeviceError(device); error != RTC_ERROR_NONE)
+        state.SkipWithError(("Embree error " + std::to_string(int(error))).c_str());
     reportCommon(state, f, hits);
     rtcReleaseScene(scene);
     rtcReleaseDevice(device);
@@ -260,10 +349,12 @@ int registerAll() {
                                                  DesignPoint{})
                         ->Unit(benchmark::kMillisecond)
                         ->UseRealTime();
-                    benchmark::RegisterBenchmark(("embree" + suffix).c_str(), embree, scene, blur,
-                                                 lens, threads)
-                        ->Unit(benchmark::kMillisecond)
-                        ->UseRealTime();
+                    for (EmbreeApi api :
+                         {EmbreeApi::OneRay, EmbreeApi::Packet16, EmbreeApi::Stream})
+                        benchmark::RegisterBenchmark((kApiNames[int(api)] + suffix).c_str(), embree,
+                                                     scene, blur, lens, threads, api)
+                            ->Unit(benchmark::kMillisecond)
+                            ->UseRealTime();
                 }
     // The tile size is the modelled hardware's choice, not the simulator's; these rows show
     // what other sizes would cost the simulator on the two smaller scenes, one thread each

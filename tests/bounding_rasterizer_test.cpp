@@ -280,10 +280,15 @@ TEST(BoundingRasterizer, TrianglesBehindTheCameraAtBothEndsAreCulledWithoutATest
 // whose film fits but whose bands' samples do not is refused before it starts, naming film.spp.
 TEST(BoundingRasterizer, TheBandsPreparedSamplesCountAgainstTheMemoryBudget) {
     const SceneDesc scene = small("scenes/motion.json");  // 48 x 36 at 4 spp: 16 bands of 2-3 rows
+    // Per sample 13 floats and the shear axes' byte (and the interval method's two stratum
+    // entries); per band one row's candidate list: an index and a ray end per candidate, padded
+    // by a vector of 16, and a 16-byte hit.
+    const std::uint64_t rowSamples = 48u * 4u;
+    const std::uint64_t candidates = (rowSamples + 16u) * 8u + rowSamples * 16u;
     EXPECT_EQ(boundingBandScratchBytes(48, 36, 4, Bounding::TriangleBBox, 2),
-              2u * 3u * 48u * 4u * 64u);
+              2u * (3u * rowSamples * 53u + candidates));
     EXPECT_EQ(boundingBandScratchBytes(48, 36, 4, Bounding::Interval, 64),
-              16u * 3u * 48u * 4u * 68u)
+              16u * (3u * rowSamples * 57u + candidates))
         << "no more bands at once than there are bands";
     for (const char* name : {"triangle-bbox", "interval", "interleaved"}) {
         const VisibilityMethod& method = methodNamed(name);

@@ -7,6 +7,7 @@
 
 #include "core/counters.h"
 #include "core/parallel.h"
+#include "rasterizer/baselines/band_samples.h"
 #include "rasterizer/common/conservative_margins.h"
 #include "rasterizer/common/screen_hull.h"
 #include "rasterizer/common/watertight_triangle.h"
@@ -131,66 +132,6 @@ struct ScreenBox {
     }
 };
 
-// A band's samples and their rays, made once before its triangles, as the patch method keeps its
-// tile rays: the generator's hashing and permutations, the lens mapping and the ray's shear cost
-// more than the ray-triangle test they would feed, and a sample is tested against every triangle
-// whose bound holds it. For the interval method
-// each pixel's samples are also listed in order of time stratum, so a stratum's samples are a
-// range found by binary search, not a scan of the pixel's samples once per stratum.
-struct BandSamples {
-    struct Prepared {
-        ShearedRay ray;  // the sample's ray, sheared for the watertight triangle test
-        Vec2 screen;     // on the z = -1 plane
-        Vec2 lens;       // the lens sample in [0,1)^2, for the record
-        float time;
-        float lambdaMin;  // the near plane along the ray
-        float depthPerLambda;
-    };
-    std::vector<Prepared> prepared;        // (row - y0, x, s), like the buffer's order
-    std::vector<std::uint16_t> byStratum;  // per pixel, spp sample indices in order of stratum
-    std::vector<std::uint16_t> stratum;    // the stratum of each of those
-
-    BandSamples(const RayCaster& c, int width, int spp, int y0, int y1, int strata) {
-        prepared.resize(std::size_t(y1 - y0) * std::size_t(width) * std::size_t(spp));
-        for (int y = y0; y < y1; ++y)
-            for (int x = 0; x < width; ++x)
-                for (int s = 0; s < spp; ++s) {
-                    const Sample smp = c.samples.sample(x, y, s);
-                    const Vec2 screen =
-                        rasterToScreen(c.camera, Vec2(float(x), float(y)) + smp.pixelOffset);
-                    const Ray ray =
-                        makeCameraRay(c.camera, screen, concentricDisk(smp.lens), smp.time, c.lens);
-                    prepared[index(y - y0, x, s, width, spp)] = {shearRay(ray), screen,
-                                                                 smp.lens,      smp.time,
-                                                                 ray.lambdaMin, ray.depthPerLambda};
-                }
-        if (strata > 0) orderByStratum(spp, strata);
-    }
-    static std::size_t index(int row, int x, int s, int width, int spp) {
-        return (std::size_t(row) * std::size_t(width) + std::size_t(x)) * std::size_t(spp) +
-               std::size_t(s);
-    }
-
-  private:
-    void orderByStratum(int spp, int strata) {
-        byStratum.resize(prepared.size());
-        stratum.resize(prepared.size());
-        std::vector<std::pair<std::uint16_t, std::uint16_t>> pixel(static_cast<std::size_t>(spp));
-        for (std::size_t base = 0; base < prepared.size(); base += std::size_t(spp)) {
-            for (int s = 0; s < spp; ++s) {
-                const float t = prepared[base + std::size_t(s)].time;
-                const int k = std::min(int(t * float(strata)), strata - 1);
-                pixel[std::size_t(s)] = {std::uint16_t(k), std::uint16_t(s)};
-            }
-            std::sort(pixel.begin(), pixel.end());
-            for (int s = 0; s < spp; ++s) {
-                stratum[base + std::size_t(s)] = pixel[std::size_t(s)].first;
-                byStratum[base + std::size_t(s)] = pixel[std::size_t(s)].second;
-            }
-        }
-    }
-};
-
 class BandRasterizer {
   public:
     BandRasterizer(const RayCaster& caster, const VisibilityTargets& targets,
@@ -202,10 +143,12 @@ class BandRasterizer {
           y1_(y1),
           width_(targets.opaque->width()),
           spp_(targets.opaque->samplesPerPixel()),
+          bandOffset_(std::size_t(y0) * std::size_t(width_) * std::size_t(spp_)),
           samples_(caster, width_, spp_, y0, y1,
-                   options.method == Bounding::Interval ? options.timeStrata : 0) {}
+                   options.method == Bounding::Interval ? options.timeStrata : 0),
+          candidates_(std::size_t(width_) * std::size_t(spp_)) {}
 
-    void triangle(const MovingMesh& mesh, std::uint32_t tri, BoundingWork& work) const {
+    void triangle(const MovingMesh& mesh, std::uint32_t tri, BoundingWork& work) {
         const std::uint32_t* v = &mesh.indices[3 * std::size_t(tri)];
         if (behindNearPlane(mesh, v)) {
             ++work.triangleSetups;  // the six depths read and compared
@@ -281,12 +224,15 @@ class BandRasterizer {
     // (or the least-area rectangle that holds it), walked row by row; a sample of the pixels it
     // reaches is ray-tested only inside it. A triangle reaching in front of the near plane, or
     // whose hull has no area (seen edge-on), keeps the box.
-    void hullBounds(const MovingMesh& mesh, std::uint32_t tri, int spp, BoundingWork& work) const {
+    void hullBounds(const MovingMesh& mesh, std::uint32_t tri, int spp, BoundingWork& work) {
         const std::uint32_t* v = &mesh.indices[3 * std::size_t(tri)];
         const ScreenBox box =
             boxAcrossLens({mesh.position0[v[0]], mesh.position1[v[0]], mesh.position0[v[1]],
                            mesh.position1[v[1]], mesh.position0[v[2]], mesh.position1[v[2]]},
                           work);
+        // Every band meets every triangle: the hull only where the box reaches this band's rows.
+        const PixelRect rect = box.pixels(c_.camera);
+        if (rect.y1 <= y0_ || rect.y0 >= y1_) return;
         ScreenHull hull;
         bool useHull = !box.fullScreen;  // else some vertex has no finite projection
         const float inverseFocus = c_.lens.radius > 0 ? 1.0f / c_.lens.focusDistance : 0.0f;
@@ -300,58 +246,89 @@ class BandRasterizer {
         const double margin = double(kScreenBoundsMarginPixels) * screenUnitsPerPixel(c_.camera);
         useHull = useHull && (o_.bound == TriangleBound::OrientedBox ? hull.buildOrientedBox(margin)
                                                                      : hull.build(margin));
-        testRect(mesh, tri, box.pixels(c_.camera), 0, spp, -1, work, useHull ? &hull : nullptr);
+        testRect(mesh, tri, rect, 0, spp, -1, work, useHull ? &hull : nullptr);
     }
 
     // Samples [s0, s1) of every pixel of `rect` in this band (of time stratum `stratum` if >= 0;
-    // inside `hull` if given).
+    // inside `hull` if given), a row's candidates tested together.
     void testRect(const MovingMesh& mesh, std::uint32_t tri, const PixelRect& rect, int s0, int s1,
-                  int stratum, BoundingWork& work, const ScreenHull* hull = nullptr) const {
+                  int stratum, BoundingWork& work, const ScreenHull* hull = nullptr) {
+        const std::uint32_t* v = &mesh.indices[3 * std::size_t(tri)];
+        const MovingTriangle moving{
+            {mesh.position0[v[0]], mesh.position0[v[1]], mesh.position0[v[2]]},
+            {mesh.position1[v[0]], mesh.position1[v[1]], mesh.position1[v[2]]}};
         for (int y = std::max(rect.y0, y0_); y < std::min(rect.y1, y1_); ++y) {
             int xBegin = rect.x0, xEnd = rect.x1;
             if (hull != nullptr && !hullRow(*hull, y, xBegin, xEnd)) continue;
+            const int row = y - y0_;
+            candidates_.clear();
             for (int x = xBegin; x < xEnd; ++x) {
                 if (stratum < 0) {
-                    for (int s = s0; s < s1; ++s) testSample(mesh, tri, x, y, s, hull, work);
+                    for (int s = s0; s < s1; ++s)
+                        consider(mesh, tri, samples_.index(row, x, s), hull, work);
                     continue;
                 }
-                const std::size_t base = BandSamples::index(y - y0_, x, 0, width_, spp_);
-                const auto first = samples_.stratum.begin() + std::ptrdiff_t(base);
-                const auto [lo, hi] = std::equal_range(first, first + spp_, std::uint16_t(stratum));
-                for (auto it = lo; it != hi; ++it)
-                    testSample(mesh, tri, x, y, samples_.byStratum[base + std::size_t(it - first)],
-                               hull, work);
+                std::size_t first = 0, last = 0;
+                samples_.stratumRange(row, x, stratum, first, last);
+                for (std::size_t p = first; p < last; ++p)
+                    consider(mesh, tri, samples_.index(row, x, samples_.stratumSample(p)), hull,
+                             work);
+            }
+            const int hits = candidates_.test(samples_, moving);
+            for (int h = 0; h < hits; ++h) {
+                const CandidateHit& hit = candidates_.hits()[h];
+                record(mesh, tri, std::size_t(candidates_.sample(hit.candidate)), hit.lambda,
+                       hit.b1, hit.b2, work);
             }
         }
     }
 
-    // Sample s of pixel (x, y) against the triangle (if inside `hull`, when given).
-    void testSample(const MovingMesh& mesh, std::uint32_t tri, int x, int y, int s,
-                    const ScreenHull* hull, BoundingWork& work) const {
-        VisibilityBuffer& buffer = *t_.opaque;
-        const BandSamples::Prepared& smp =
-            samples_.prepared[BandSamples::index(y - y0_, x, s, width_, spp_)];
-        if (hull != nullptr && !hull->contains(smp.screen)) {
+    // Band sample i against the triangle (if inside `hull`, when given): listed for the vector
+    // test, or tested here when its ray does not shear along z.
+    void consider(const MovingMesh& mesh, std::uint32_t tri, std::size_t i, const ScreenHull* hull,
+                  BoundingWork& work) {
+        if (hull != nullptr && !hull->contains(samples_.screen(i))) {
             ++work.samplesOutsideHull;
             return;
         }
         ++work.samplesTested;
-        const float lambdaMax = rayEndAtDepth(buffer.depthBound(x, y, s), smp.depthPerLambda);
-        const std::uint32_t* v = &mesh.indices[3 * std::size_t(tri)];
-        TriangleHit hit;
-        if (!intersectTriangle(smp.ray, mesh.vertexAt(v[0], smp.time),
-                               mesh.vertexAt(v[1], smp.time), mesh.vertexAt(v[2], smp.time),
-                               smp.lambdaMin, lambdaMax, hit))
+        const float lambdaMax =
+            rayEndAtDepth(t_.opaque->depthBound(t_.opaque->records()[bandOffset_ + i]),
+                          samples_.depthPerLambda(i));
+        if (samples_.alongZ(i)) {
+            candidates_.add(std::int32_t(i), lambdaMax);
             return;
-        const VisibilityRecord record{
-            hit.lambda * smp.depthPerLambda, mesh.patchId, tri, hit.b1, hit.b2, smp.time, smp.lens};
+        }
+        const std::uint32_t* v = &mesh.indices[3 * std::size_t(tri)];
+        const float time = samples_.time(i);
+        TriangleHit hit;
+        if (intersectTriangle(samples_.shearedRay(i), mesh.vertexAt(v[0], time),
+                              mesh.vertexAt(v[1], time), mesh.vertexAt(v[2], time),
+                              samples_.lambdaMin(i), lambdaMax, hit))
+            record(mesh, tri, i, hit.lambda, hit.b1, hit.b2, work);
+    }
+
+    // A hit of band sample i: to its layers (a transparent mesh) or its nearest so far.
+    void record(const MovingMesh& mesh, std::uint32_t tri, std::size_t i, float lambda, float b1,
+                float b2, BoundingWork& work) {
+        const VisibilityRecord hit{lambda * samples_.depthPerLambda(i),
+                                   mesh.patchId,
+                                   tri,
+                                   b1,
+                                   b2,
+                                   samples_.time(i),
+                                   samples_.lens(i)};
+        const std::size_t at = bandOffset_ + i;
         if (!mesh.opaque && t_.transparent != nullptr) {
             ++work.transparentFragments;
-            if (!t_.transparent->offer(buffer.index(x, y, s), t_.pool, {record, mesh.objectId}))
+            if (!t_.transparent->offer(at, t_.pool, {hit, mesh.objectId}))
                 ++work.transparentOverflow;
-        } else if (record.nearerThan(buffer.at(x, y, s))) {
+            return;
+        }
+        VisibilityRecord& nearest = t_.opaque->mutableRecords()[at];
+        if (hit.nearerThan(nearest)) {
             ++work.visibilitySamples;
-            buffer.at(x, y, s) = record;
+            nearest = hit;
         }
     }
 
@@ -375,7 +352,9 @@ class BandRasterizer {
     const BoundingOptions& o_;
     int y0_, y1_;
     int width_, spp_;
+    std::size_t bandOffset_;  // the band's first sample in the visibility buffer
     BandSamples samples_;
+    CandidateList candidates_;  // a row's samples to test against the current triangle
 };
 
 }  // namespace
@@ -411,11 +390,11 @@ std::uint64_t boundingBandScratchBytes(int width, int height, int samplesPerPixe
     for (int band = 0; band < kBands; ++band)
         tallest = std::max(tallest, FramePartition::bandBegin(band + 1, height) -
                                         FramePartition::bandBegin(band, height));
-    const std::uint64_t perSample = sizeof(BandSamples::Prepared) +
-                                    (method == Bounding::Interval ? 2 * sizeof(std::uint16_t) : 0);
+    const std::uint64_t perSample = BandSamples::bytesPerSample(method == Bounding::Interval);
     const auto atOnce = std::uint64_t(std::clamp(threads, 1, kBands));
-    return atOnce * std::uint64_t(tallest) * std::uint64_t(width) * std::uint64_t(samplesPerPixel) *
-           perSample;
+    const std::uint64_t rowSamples = std::uint64_t(width) * std::uint64_t(samplesPerPixel);
+    return atOnce *
+           (std::uint64_t(tallest) * rowSamples * perSample + CandidateList::bytesFor(rowSamples));
 }
 
 std::vector<BoundingWork> rasterizeByBounds(const std::vector<MovingMesh>& meshes,
@@ -435,7 +414,7 @@ std::vector<BoundingWork> rasterizeByBounds(const std::vector<MovingMesh>& meshe
                   y1 = FramePartition::bandBegin(int(band) + 1, height);
         VisibilityTargets mine = targets;
         mine.pool = int(band);
-        const BandRasterizer rasterizer(caster, mine, options, y0, y1);
+        BandRasterizer rasterizer(caster, mine, options, y0, y1);
         for (std::size_t i = 0; i < meshes.size(); ++i) {
             BoundingWork& work = bandWork[band][i];
             for (std::uint32_t tri = 0; tri < meshes[i].triangleCount(); ++tri)

@@ -27,7 +27,9 @@
 // camera, say) at both ends of the shutter: then (linear motion, a convex half-space) it is so at
 // every time, can hit no sample, and is culled after its setup without a test. Tests are the
 // watertight ray-triangle test on the sample's own ray, so these methods find the same nearest hit
-// as the patch rasterizer and the reference for the same samples.
+// as the patch rasterizer and the reference for the same samples. As the patch method's rays are
+// made once per tile, a band's samples are made once as rays (band_samples.h), and the samples a
+// triangle's bound reaches in a row are tested together, a SIMD vector at a time.
 
 #include <functional>
 #include <string>
@@ -113,8 +115,9 @@ struct BoundingOptions {
 };
 
 // The bytes of samples prepared ahead (ray, screen position, lens, time; and for the interval
-// method each sample's stratum order) that the bands rasterized at once hold: min(threads, bands)
-// bands of the tallest band's rows. A render holds them to the memory budget with the film.
+// method each sample's stratum order; band_samples.h) and of a row's candidate list that the
+// bands rasterized at once hold: min(threads, bands) bands of the tallest band's rows. A render
+// holds them to the memory budget with the film.
 std::uint64_t boundingBandScratchBytes(int width, int height, int samplesPerPixel, Bounding method,
                                        int threads);
 
