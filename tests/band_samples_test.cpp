@@ -6,6 +6,7 @@
 #include <bit>
 #include <limits>
 #include <random>
+#include <utility>
 
 #include "core/camera.h"
 #include "core/effects.h"
@@ -133,6 +134,58 @@ TEST(BandSamples, TheVectorTestEqualsTheScalarTestBitForBitOnEveryTarget) {
         }
         EXPECT_GT(hits, 1000) << "of " << tests;
         EXPECT_GT(tests - hits, 1000);
+    }
+    hwy::SetSupportedTargetsForTest(0);
+}
+
+// A corner exactly on a sample's ray makes two edge functions exactly zero, so the
+// double-precision path decides the hit and its barycentrics. A pinhole's rays leave the origin
+// at t = 0, and the corner (-4 sy, -4 sx, -4) sheds to ax = ay = 0 exactly (a power-of-two
+// scale of the shear): u is the only non-zero edge function, and the hit has b1 = b2 = 0. Lists
+// of one candidate also test a vector's masked tail.
+TEST(BandSamples, ACornerOnTheRayIsDecidedByTheDoublePrecisionPath) {
+    const Camera camera{CameraDesc{}, {}, 16, 8};
+    const SampleGenerator generator{3, 4, Effects{}};
+    const RayCaster caster{camera, {}, generator, false, true};
+    const BandSamples band(caster, 16, 4, 0, 8, 0);
+    const std::size_t n = 16 * 4 * 8;
+    CandidateList list(n);
+    const std::vector<std::int64_t> targets = hwy::SupportedAndGeneratedTargets();
+    for (std::int64_t target : targets) {
+        hwy::SetSupportedTargetsForTest(target);
+        int hits = 0;
+        for (std::size_t i = 0; i < n; ++i) {
+            const ShearedRay ray = band.shearedRay(i);
+            ASSERT_TRUE(band.alongZ(i));
+            ASSERT_EQ(ray.origin, Vec3(0.0f));
+            ASSERT_EQ(band.time(i), 0.0f);
+            const Vec3 corner(-4.0f * ray.sy, -4.0f * ray.sx, -4.0f);
+            const MovingTriangle tri{
+                {corner, corner + Vec3(1, 0.25f, 0), corner + Vec3(0.5f, 1, 0)},
+                {corner, corner + Vec3(1, 0.25f, 0), corner + Vec3(0.5f, 1, 0)}};
+            for (const bool flipped : {false, true}) {  // both windings: u > 0 and u < 0
+                MovingTriangle t = tri;
+                if (flipped) std::swap(t.open[1], t.open[2]), std::swap(t.close[1], t.close[2]);
+                TriangleHit want;
+                const bool hit = intersectTriangle(ray, t.open[0], t.open[1], t.open[2],
+                                                   band.lambdaMin(i), 1e30f, want);
+                ASSERT_TRUE(hit) << "sample " << i;
+                EXPECT_EQ(want.b1, 0.0f);
+                EXPECT_EQ(want.b2, 0.0f);
+                list.clear();
+                list.add(std::int32_t(i), 1e30f);
+                ASSERT_EQ(list.test(band, t), 1) << hwy::TargetName(target) << " sample " << i;
+                const CandidateHit& got = list.hits()[0];
+                ASSERT_EQ(std::bit_cast<std::uint32_t>(got.lambda),
+                          std::bit_cast<std::uint32_t>(want.lambda));
+                ASSERT_EQ(std::bit_cast<std::uint32_t>(got.b1),
+                          std::bit_cast<std::uint32_t>(want.b1));
+                ASSERT_EQ(std::bit_cast<std::uint32_t>(got.b2),
+                          std::bit_cast<std::uint32_t>(want.b2));
+                ++hits;
+            }
+        }
+        EXPECT_EQ(hits, int(2 * n));
     }
     hwy::SetSupportedTargetsForTest(0);
 }
