@@ -20,6 +20,9 @@ struct Effects {
 
     // Samples carry a time when anything varies over the shutter.
     bool timeSamples() const { return motion || shadingVaries; }
+    // Nothing moves and there is no lens: a sample is a point in the screen plane, tested with
+    // edge functions instead of a ray (rasterizer/common/screen_triangle.h).
+    bool screenPlaneSamples() const { return !motion && !defocus; }
 };
 
 struct EffectOverrides {

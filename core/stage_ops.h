@@ -32,6 +32,8 @@
     X(SamplesTested, "samples_tested", RS, "Samples considered against a tile or a triangle")  \
     X(RayBoxTests, "ray_box_tests", RS, "Rays against a moving box at their time")             \
     X(RayTriangleTests, "ray_triangle_tests", RS, "Watertight ray-triangle tests at a time")   \
+    X(EdgeTests, "edge_tests", RS,                                                             \
+      "Samples tested against a static triangle's three fixed-point edge functions")           \
     X(Invocations, "invocations", PS, "Pixel shader invocations")                              \
     X(DepthTests, "depth_tests", OM, "Visibility samples written to the z-buffer")             \
     X(TransparentFragments, "transparent_fragments", OM,                                       \

@@ -205,7 +205,9 @@ TEST(PatchRasterizer, ImagesAndCountersDoNotDependOnTheThreadCount) {
     EXPECT_EQ(countersOne.raw(), countersTwo.raw());
 }
 
-TEST(PatchRasterizer, StaticSceneDoesNoTimeWork) {
+// A static frame is rasterized as one (screen_pass.h): no time work, and no ray, box or
+// ray-triangle test; its samples are tested with edge functions, each triangle set up per tile.
+TEST(PatchRasterizer, StaticSceneDoesNoTimeWorkAndCastsNoRay) {
     CounterRegistry::instance().reset();
     const SceneDesc scene = smallScene(readSceneFile(test::sourcePath("scenes/static.json")));
     renderWith(scene, &methodNamed("patch"));
@@ -214,7 +216,12 @@ TEST(PatchRasterizer, StaticSceneDoesNoTimeWork) {
     EXPECT_EQ(c[rs.timeIntervals], 0);
     EXPECT_EQ(c[rs.samplesRejectedTime], 0);
     EXPECT_EQ(c[rs.tilesRejectedTime], 0);
-    EXPECT_GT(c[rs.raysCast], 0);
+    EXPECT_EQ(c[rs.raysCast], 0);
+    EXPECT_EQ(c[rs.rayBoxTests], 0);
+    EXPECT_EQ(c[rs.rayTriangleTests], 0);
+    EXPECT_GT(c[rs.screenTriangleSetups], 0);
+    EXPECT_GT(c[rs.edgeTests], c[rs.visibilitySamples]);
+    EXPECT_GT(c[rs.visibilitySamples], 0);
     // ...and the samples carry no time.
     const SampleGenerator samples(1, 4, Effects{});
     for (int s = 0; s < 4; ++s) EXPECT_EQ(samples.sample(3, 4, s).time, 0.0f);

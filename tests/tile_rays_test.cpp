@@ -286,20 +286,22 @@ TEST(TileRays, BytesForIsWhatConstructionAllocates) {
     }
     struct Shape {
         int tileSize, spp;
-        bool counting, generated;
+        bool counting, generated, screenPlane;
     };
-    for (const Shape shape : {Shape{32, 16, false, true}, Shape{64, 8, true, true},
-                              Shape{16, 64, true, false}, Shape{128, 4, false, false}}) {
+    for (const Shape shape :
+         {Shape{32, 16, false, true, false}, Shape{64, 8, true, true, true},
+          Shape{16, 64, true, false, false}, Shape{128, 4, false, false, true}}) {
         const TileGrid grid{2 * shape.tileSize, shape.tileSize, shape.tileSize};
         Frame f(SamplePattern::Stratified, true, 0.2f, 40.0f, grid, shape.spp);
         f.tiles.countPerSample = shape.counting;
+        f.tiles.screenPlane = shape.screenPlane;
         const SampleTable table(f.generator, grid.width, grid.height, 1);
         if (!shape.generated) f.tiles.samples.table = &table;
         const std::uint64_t before = heapBytesInUse();
         const auto rays = std::make_unique<TileRays>(f.tiles);
         const std::uint64_t allocated = heapBytesInUse() - before;
-        const std::uint64_t estimate =
-            TileRays::bytesFor(shape.tileSize, shape.spp, shape.counting, shape.generated);
+        const std::uint64_t estimate = TileRays::bytesFor(shape.tileSize, shape.spp, shape.counting,
+                                                          shape.generated, shape.screenPlane);
         SCOPED_TRACE(testing::Message() << shape.tileSize << " px at " << shape.spp << " spp");
         // Each allocation carries a few bytes of the allocator's own (and an aligned one up to
         // a page): far less than the smallest per-sample array the estimate could leave out.

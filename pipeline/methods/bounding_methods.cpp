@@ -109,10 +109,10 @@ class BoundingMethod : public VisibilityMethod {
     const RatioCounter& sampleTestEfficiency() const override {
         return boundingSampleTestEfficiency(bounding_);
     }
-    // Every test is a sample-triangle pair with its own ray.
+    // Every test is a sample-triangle pair; outside static frames each with its own ray.
     VisibilityTotals totals(const CounterValues& v) const override {
         const BoundingCounters& c = boundingCounters(bounding_);
-        return {v[c.samplesTested], v[c.samplesTested], v[c.visibilitySamples],
+        return {v[c.samplesTested], v[c.rayTriangleTests], v[c.visibilitySamples],
                 v.ratio(sampleTestEfficiency())};
     }
 

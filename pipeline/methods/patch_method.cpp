@@ -52,7 +52,7 @@ void checkTileScratch(const SceneDesc& scene, const RenderOptions& options, int 
     const auto tiles = std::int64_t(TileGrid{film.width, film.height, tileSize}.tileCount());
     const auto rasterWorkers = std::uint64_t(std::min(std::int64_t(workers), tiles));
     const std::uint64_t scratch =
-        TileRays::bytesFor(tileSize, film.samplesPerPixel, options.heatMaps, true);
+        TileRays::bytesFor(tileSize, film.samplesPerPixel, options.heatMaps, true, true);
     const std::uint64_t total = filmBytes(film) + rasterWorkers * scratch;
     if (total <= options.memoryBudgetBytes) return;
     const auto mib = [](std::uint64_t bytes) {

@@ -160,12 +160,17 @@ BandSamples::BandSamples(const RayCaster& c, int width, int spp, int y0, int y1,
     static_assert(std::tuple_size_v<decltype(floats)> == kFloatArrays);
     for (std::vector<float>* array : floats) array->resize(n);
     axes_.resize(n);
+    const bool screenPlane = c.samples.effects().screenPlaneSamples();
+    if (screenPlane) {
+        subpixelX_.resize(n);
+        subpixelY_.resize(n);
+    }
     for (int y = y0; y < y1; ++y)
         for (int x = 0; x < width; ++x)
             for (int s = 0; s < spp; ++s) {
                 const Sample smp = c.samples.sample(x, y, s);
-                const Vec2 screen =
-                    rasterToScreen(c.camera, Vec2(float(x), float(y)) + smp.pixelOffset);
+                const Vec2 raster = Vec2(float(x), float(y)) + smp.pixelOffset;
+                const Vec2 screen = rasterToScreen(c.camera, raster);
                 const Ray ray =
                     makeCameraRay(c.camera, screen, concentricDisk(smp.lens), smp.time, c.lens);
                 const ShearedRay sheared = shearRay(ray);
@@ -184,13 +189,17 @@ BandSamples::BandSamples(const RayCaster& c, int width, int spp, int y0, int y1,
                 screenY_[i] = screen.y;
                 lensU_[i] = smp.lens.x;
                 lensV_[i] = smp.lens.y;
+                if (screenPlane) {
+                    subpixelX_[i] = sampleSubpixel(x, smp.pixelOffset.x);
+                    subpixelY_[i] = sampleSubpixel(y, smp.pixelOffset.y);
+                }
             }
     if (strata > 0) orderByStratum(strata);
 }
 
-std::uint64_t BandSamples::bytesPerSample(bool strata) {
+std::uint64_t BandSamples::bytesPerSample(bool strata, bool screenPlane) {
     return kFloatArrays * sizeof(float) + sizeof(std::uint8_t) +
-           (strata ? 2 * sizeof(std::uint16_t) : 0);
+           (strata ? 2 * sizeof(std::uint16_t) : 0) + (screenPlane ? 2 * sizeof(double) : 0);
 }
 
 ShearedRay BandSamples::shearedRay(std::size_t i) const {

@@ -31,6 +31,7 @@
 #include "core/math.h"
 #include "core/samples.h"
 #include "rasterizer/common/sample_rays.h"
+#include "rasterizer/common/screen_triangle.h"
 #include "rasterizer/common/watertight_triangle.h"
 
 namespace patchsim {
@@ -44,8 +45,9 @@ class BandSamples {
     // stratum (of `strata` equal parts of the shutter).
     BandSamples(const RayCaster& caster, int width, int spp, int y0, int y1, int strata);
 
-    // The bytes held per sample, with or without the stratum order.
-    static std::uint64_t bytesPerSample(bool strata);
+    // The bytes held per sample, with or without the stratum order, with or without sub-pixel
+    // positions (a static frame's, Effects::screenPlaneSamples).
+    static std::uint64_t bytesPerSample(bool strata, bool screenPlane);
 
     std::size_t index(int row, int x, int s) const {
         return (std::size_t(row) * std::size_t(width_) + std::size_t(x)) * std::size_t(spp_) +
@@ -60,6 +62,10 @@ class BandSamples {
     bool alongZ(std::size_t i) const { return axes_[i] == kAlongZ; }
     ShearedRay shearedRay(std::size_t i) const;
     Vec2 screen(std::size_t i) const { return {screenX_[i], screenY_[i]}; }
+    // In a static frame: the raster position on the sub-pixel grid (screen_triangle.h).
+    bool hasSubpixels() const { return !subpixelX_.empty(); }
+    double subpixelX(std::size_t i) const { return subpixelX_[i]; }
+    double subpixelY(std::size_t i) const { return subpixelY_[i]; }
     Vec2 lens(std::size_t i) const { return {lensU_[i], lensV_[i]}; }
     float time(std::size_t i) const { return time_[i]; }
     float lambdaMin(std::size_t i) const { return lambdaMin_[i]; }
@@ -86,6 +92,7 @@ class BandSamples {
     std::vector<float> originX_, originY_, originZ_, shearX_, shearY_, shearZ_, time_, lambdaMin_;
     std::vector<float> depthPerLambda_, screenX_, screenY_, lensU_, lensV_;
     std::vector<std::uint8_t> axes_;
+    std::vector<double> subpixelX_, subpixelY_;
     std::vector<std::uint16_t> byStratum_;  // per pixel, spp sample indices in order of stratum
     std::vector<std::uint16_t> stratum_;    // the stratum of each of those
 };

@@ -156,6 +156,7 @@ class BandRasterizer {
             return;
         }
         const int spp = t_.opaque->samplesPerPixel();
+        if (samples_.hasSubpixels() && screenTriangle(mesh, tri, work)) return;
         switch (o_.method) {
             case Bounding::TriangleBBox:
                 if (o_.bound != TriangleBound::Box)
@@ -187,6 +188,46 @@ class BandRasterizer {
     }
 
   private:
+    // A static frame: every method's bound is the triangle's pixel box, and its samples are
+    // tested with edge functions (screen_triangle.h), as the patch method and the reference test
+    // them; the interleaved method's accumulation buffer sets the triangle up once per pass (the
+    // simulator computes it once) and tests that pass's sample. False when the triangle has no
+    // screen form: it then takes the method's rays.
+    bool screenTriangle(const MovingMesh& mesh, std::uint32_t tri, BoundingWork& work) {
+        const std::uint32_t* v = &mesh.indices[3 * std::size_t(tri)];
+        const ScreenTriangle t = setupScreenTriangle(c_.camera, mesh.position0[v[0]],
+                                                     mesh.position0[v[1]], mesh.position0[v[2]]);
+        if (t.kind == ScreenTriangle::Kind::NeedsRay) return false;
+        const bool perPass = o_.method == Bounding::Interleaved;
+        for (int pass = 0; pass < (perPass ? spp_ : 1); ++pass) {
+            ++work.triangleSetups;
+            if (t.kind == ScreenTriangle::Kind::Covers)
+                screenSamples(mesh, tri, t, perPass ? pass : 0, perPass ? pass + 1 : spp_, work);
+        }
+        return true;
+    }
+
+    // Samples [s0, s1) of the pixels of the triangle's box in this band.
+    void screenSamples(const MovingMesh& mesh, std::uint32_t tri, const ScreenTriangle& t, int s0,
+                       int s1, BoundingWork& work) {
+        for (int y = std::max(t.pixelY0, y0_); y < std::min(t.pixelY1, y1_); ++y)
+            for (int x = t.pixelX0; x < t.pixelX1; ++x)
+                for (int s = s0; s < s1; ++s) {
+                    const std::size_t i = samples_.index(y - y0_, x, s);
+                    ++work.samplesTested;
+                    ++work.edgeTests;
+                    const float perLambda = samples_.depthPerLambda(i);
+                    const float depthMax =
+                        rayEndAtDepth(t_.opaque->depthBound(t_.opaque->records()[bandOffset_ + i]),
+                                      perLambda) *
+                        perLambda;
+                    ScreenHit hit;
+                    if (coverSample(t, samples_.subpixelX(i), samples_.subpixelY(i),
+                                    samples_.lambdaMin(i) * perLambda, depthMax, hit))
+                        recordDepth(mesh, tri, i, hit.depth, hit.b1, hit.b2, work);
+                }
+    }
+
     // Every vertex nearer than the near plane (depth < near) at t=0 and at t=1. Each vertex moves
     // on a segment and the triangle is the convex hull of its vertices, so the triangle stays in
     // that half-space for the whole shutter: no ray meets it at lambda >= lambdaMin. Without this
@@ -292,6 +333,7 @@ class BandRasterizer {
             return;
         }
         ++work.samplesTested;
+        ++work.rayTriangleTests;
         const float lambdaMax =
             rayEndAtDepth(t_.opaque->depthBound(t_.opaque->records()[bandOffset_ + i]),
                           samples_.depthPerLambda(i));
@@ -311,12 +353,12 @@ class BandRasterizer {
     // A hit of band sample i: to its layers (a transparent mesh) or its nearest so far.
     void record(const MovingMesh& mesh, std::uint32_t tri, std::size_t i, float lambda, float b1,
                 float b2, BoundingWork& work) {
-        const VisibilityRecord hit{lambda * samples_.depthPerLambda(i),
-                                   mesh.patchId,
-                                   tri,
-                                   b1,
-                                   b2,
-                                   samples_.time(i),
+        recordDepth(mesh, tri, i, lambda * samples_.depthPerLambda(i), b1, b2, work);
+    }
+
+    void recordDepth(const MovingMesh& mesh, std::uint32_t tri, std::size_t i, float depth,
+                     float b1, float b2, BoundingWork& work) {
+        const VisibilityRecord hit{depth,           mesh.patchId, tri, b1, b2, samples_.time(i),
                                    samples_.lens(i)};
         const std::size_t at = bandOffset_ + i;
         if (!mesh.opaque && t_.transparent != nullptr) {
@@ -390,7 +432,10 @@ std::uint64_t boundingBandScratchBytes(int width, int height, int samplesPerPixe
     for (int band = 0; band < kBands; ++band)
         tallest = std::max(tallest, FramePartition::bandBegin(band + 1, height) -
                                         FramePartition::bandBegin(band, height));
-    const std::uint64_t perSample = BandSamples::bytesPerSample(method == Bounding::Interval);
+    // Checked before the frame's effects are known: counted with a static frame's sub-pixel
+    // positions, the larger.
+    const std::uint64_t perSample =
+        BandSamples::bytesPerSample(method == Bounding::Interval, /*screenPlane=*/true);
     const auto atOnce = std::uint64_t(std::clamp(threads, 1, kBands));
     const std::uint64_t rowSamples = std::uint64_t(width) * std::uint64_t(samplesPerPixel);
     return atOnce *

@@ -67,8 +67,15 @@ bool parseTriangleBound(const std::string& name, TriangleBound& out);
     X(fullScreenBounds, "Full-screen bounds", "setups", Sum,                                     \
       "Bounds that reached in front of the near plane: the whole screen")                        \
     X(samplesTested, "Samples tested", "samples", Sum,                                           \
-      "Sample-triangle pairs tested, one watertight ray-triangle test each", Op::SamplesTested,  \
-      Op::RayTriangleTests)                                                                      \
+      "Sample-triangle pairs tested: a watertight ray-triangle test each, or in a static frame " \
+      "the three edge functions",                                                                \
+      Op::SamplesTested)                                                                         \
+    X(rayTriangleTests, "Ray-triangle tests", "tests", Sum,                                      \
+      "Sample-triangle pairs tested with a watertight ray-triangle test", Op::RayTriangleTests)  \
+    X(edgeTests, "Edge tests", "samples", Sum,                                                   \
+      "Static frames: sample-triangle pairs tested with the three fixed-point edge functions "   \
+      "(screen_triangle.h) instead of a ray",                                                    \
+      Op::EdgeTests)                                                                             \
     X(samplesOutsideHull, "Samples outside the hull", "samples", Sum,                            \
       "Samples of the pixels a triangle's hull bound reaches found outside the hull by its 2D "  \
       "edge test, so not ray-tested (triangle-bbox with the hull or oriented-box bound)",        \

@@ -2,6 +2,7 @@
 
 #include "core/counters.h"
 #include "rasterizer/common/conservative_margins.h"
+#include "rasterizer/common/screen_triangle.h"
 #include "rasterizer/common/watertight_triangle.h"
 #include "rasterizer/patent/raster_work.h"
 
@@ -34,6 +35,49 @@ bool hitTriangle(const MovingMesh& mesh, std::uint32_t tri, const ShearedRay& sh
     return true;
 }
 
+// The triangles of every mesh in screen form (static frames), in mesh order.
+std::vector<ScreenTriangle> screenTriangles(const std::vector<MovingMesh>& meshes,
+                                            const Camera& camera) {
+    std::vector<ScreenTriangle> out;
+    for (const MovingMesh& mesh : meshes)
+        for (std::uint32_t tri = 0; tri < mesh.triangleCount(); ++tri) {
+            const std::uint32_t* v = &mesh.indices[3 * std::size_t(tri)];
+            out.push_back(setupScreenTriangle(camera, mesh.position0[v[0]], mesh.position0[v[1]],
+                                              mesh.position0[v[2]]));
+        }
+    return out;
+}
+
+// The sample's hit on a triangle: the screen test where the triangle has a screen form (static
+// frames), else the ray test. Both end at depth `depthMax` (the ray's parameter lambdaMax).
+struct SampleTester {
+    const ShearedRay& sheared;
+    const Ray& ray;
+    const ScreenTriangle* screen;  // null: rays only
+    double subpixelX, subpixelY;
+    int x, y;
+
+    bool hit(const MovingMesh& mesh, std::uint32_t tri, std::size_t index, float lambdaMax,
+             VisibilityRecord& record) const {
+        if (screen == nullptr || screen[index].kind == ScreenTriangle::Kind::NeedsRay)
+            return hitTriangle(mesh, tri, sheared, ray, lambdaMax, record);
+        const ScreenTriangle& t = screen[index];
+        if (t.kind == ScreenTriangle::Kind::Empty || x < t.pixelX0 || x >= t.pixelX1 ||
+            y < t.pixelY0 || y >= t.pixelY1)
+            return false;
+        ScreenHit hit;
+        if (!coverSample(t, subpixelX, subpixelY, ray.lambdaMin * ray.depthPerLambda,
+                         lambdaMax * ray.depthPerLambda, hit))
+            return false;
+        record.depth = hit.depth;
+        record.patch = mesh.patchId;
+        record.triangle = tri;
+        record.b1 = hit.b1;
+        record.b2 = hit.b2;
+        return true;
+    }
+};
+
 }  // namespace
 
 void renderReferenceRows(const std::vector<MovingMesh>& meshes, const Camera& camera,
@@ -42,22 +86,34 @@ void renderReferenceRows(const std::vector<MovingMesh>& meshes, const Camera& ca
     ReferenceWork work;
     RasterWork layerWork;
     VisibilityBuffer& buffer = *targets.opaque;
+    const std::vector<ScreenTriangle> screen = samples.effects().screenPlaneSamples()
+                                                   ? screenTriangles(meshes, camera)
+                                                   : std::vector<ScreenTriangle>();
     for (int y = y0; y < y1; ++y) {
         for (int x = 0; x < buffer.width(); ++x) {
             for (int s = 0; s < buffer.samplesPerPixel(); ++s) {
                 const Sample smp = samples.sample(x, y, s);
-                const Vec2 screen =
-                    rasterToScreen(camera, Vec2(float(x), float(y)) + smp.pixelOffset);
-                const Ray ray =
-                    makeCameraRay(camera, screen, concentricDisk(smp.lens), smp.time, lens);
+                const Vec2 raster = Vec2(float(x), float(y)) + smp.pixelOffset;
+                const Ray ray = makeCameraRay(camera, rasterToScreen(camera, raster),
+                                              concentricDisk(smp.lens), smp.time, lens);
                 const ShearedRay sheared = shearRay(ray);
+                const SampleTester tester{sheared,
+                                          ray,
+                                          screen.empty() ? nullptr : screen.data(),
+                                          sampleSubpixel(x, smp.pixelOffset.x),
+                                          sampleSubpixel(y, smp.pixelOffset.y),
+                                          x,
+                                          y};
+                std::size_t first = 0;  // the mesh's first triangle in `screen`
                 VisibilityRecord best, hit;
                 best.time = hit.time = smp.time;
                 best.lens = hit.lens = smp.lens;
                 for (const MovingMesh& mesh : meshes) {
+                    const std::size_t meshFirst = first;
+                    first += mesh.triangleCount();
                     if (!mesh.opaque && targets.transparent) continue;
                     for (std::uint32_t tri = 0; tri < mesh.triangleCount(); ++tri)
-                        if (hitTriangle(mesh, tri, sheared, ray, ray.lambdaMax, hit) &&
+                        if (tester.hit(mesh, tri, meshFirst + tri, ray.lambdaMax, hit) &&
                             hit.nearerThan(best))
                             best = hit;
                     work.triangleTests += std::int64_t(mesh.triangleCount());
@@ -67,10 +123,13 @@ void renderReferenceRows(const std::vector<MovingMesh>& meshes, const Camera& ca
                 const float opaqueLambda =
                     best.hit() ? best.depth / ray.depthPerLambda * (1.0f + kDepthTieWidening)
                                : ray.lambdaMax;
+                first = 0;
                 for (const MovingMesh& mesh : meshes) {
+                    const std::size_t meshFirst = first;
+                    first += mesh.triangleCount();
                     if (mesh.opaque || !targets.transparent) continue;
                     for (std::uint32_t tri = 0; tri < mesh.triangleCount(); ++tri) {
-                        if (!hitTriangle(mesh, tri, sheared, ray, opaqueLambda, hit)) continue;
+                        if (!tester.hit(mesh, tri, meshFirst + tri, opaqueLambda, hit)) continue;
                         ++layerWork.transparentFragments;
                         if (!targets.transparent->offer(buffer.index(x, y, s), targets.pool,
                                                         LayerFragment{hit, mesh.objectId}))

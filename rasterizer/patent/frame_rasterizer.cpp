@@ -107,7 +107,10 @@ FrameRasterWork rasterizeFrame(const std::vector<MovingMesh>& meshes,
                              rasterizer.samples().effects().timeSamples(),
                              grid.tileSize,
                              targets.pixels != nullptr,
-                             options.opaqueStartsEmpty};
+                             options.opaqueStartsEmpty,
+                             // The geometry's effects, not the samples': a sharp frame of a moving
+                             // scene (sharp_frame_method.h) samples one time of moving triangles.
+                             rasterizer.effects().screenPlaneSamples()};
     // One transparent-layer pool per worker.
     int threads = resolveThreadCount(options.threads);
     if (targets.transparent) threads = std::min(threads, targets.transparent->pools());

@@ -75,6 +75,12 @@ class PatchHierarchy {
         count = e - b;
         return t.vertices.data() + b;
     }
+    // Where leaf j's distinct vertices start among all leaves' (vertexBegin[j]).
+    std::uint32_t leafVertexOffset(int leaf) const {
+        return leafTable().vertexBegin[std::size_t(leaf)];
+    }
+    // All leaves' distinct vertices together.
+    std::size_t leafVertexTotal() const { return leafTable().vertexBegin.back(); }
     const std::uint8_t* leafCorners(int leaf) const {
         return leafTable().corners.data() + 3 * std::size_t(leafBegin_[std::size_t(leaf)]);
     }

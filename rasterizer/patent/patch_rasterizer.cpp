@@ -3,6 +3,7 @@
 #include "rasterizer/patent/branch_node.h"
 #include "rasterizer/patent/ray_stream.h"
 #include "rasterizer/patent/screen_bounds.h"
+#include "rasterizer/patent/screen_pass.h"
 #include "rasterizer/patent/tile_frustum.h"
 #include "rasterizer/patent/tile_traversal.h"
 
@@ -37,6 +38,23 @@ void PatchRasterizer::prepareGroup(const MovingMesh& mesh, const std::uint32_t* 
             : screenBounds(group.hierarchy, options_.boundsLevel, camera_, lens_);
     work.fullScreenBounds += bounds.fullScreen;
     group.tiles = tilesCovering(bounds, grid_);
+    if (effects_.screenPlaneSamples()) projectLeafVertices(mesh, group, work);
+}
+
+// The viewport transform of a static frame, once per vertex of each leaf: every tile the leaf
+// overlaps sets its triangles up from these (screen_pass.h).
+void PatchRasterizer::projectLeafVertices(const MovingMesh& mesh, Group& group,
+                                          RasterWork& work) const {
+    const PatchHierarchy& h = group.hierarchy;
+    group.screenVertices.resize(h.leafVertexTotal());
+    for (int leaf = 0; leaf < h.leafCount(); ++leaf) {
+        std::size_t count = 0;
+        const std::uint32_t* vertices = h.leafVertices(leaf, count);
+        ScreenVertex* out = group.screenVertices.data() + h.leafVertexOffset(leaf);
+        for (std::size_t k = 0; k < count; ++k)
+            out[k] = projectToScreen(camera_, mesh.position0[vertices[k]]);
+    }
+    work.screenVertices += std::int64_t(group.screenVertices.size());
 }
 
 void PatchRasterizer::rasterizeTile(const MovingMesh& mesh, const Group& group, int tileX,
@@ -53,11 +71,15 @@ void PatchRasterizer::rasterizeTile(const MovingMesh& mesh, const Group& group, 
     ++work.tilesOverlapping;
     const int branch = branchNode(options_.branchMethod, traversal, group.hierarchy.depth());
     StreamPass pass{&mesh, &group.hierarchy, &traversal, branch, options_.zCulling};
+    pass.screenVertices = group.screenVertices.data();
     if (!mesh.opaque && targets.transparent) {
         pass.transparent = targets.transparent;
         pass.pool = targets.pool;
     }
-    traceRayStream(rays, pass, work);
+    if (rays.subpixelX != nullptr)
+        rasterizeScreenPass(rays, pass, camera_, work);
+    else
+        traceRayStream(rays, pass, work);
 }
 
 }  // namespace patchsim

@@ -23,6 +23,7 @@
 #include "core/effects.h"
 #include "core/rasterizer_options.h"
 #include "core/samples.h"
+#include "rasterizer/common/screen_triangle.h"
 #include "rasterizer/common/tile_grid.h"
 #include "rasterizer/common/visibility_targets.h"
 #include "rasterizer/patent/patch_hierarchy.h"
@@ -41,6 +42,9 @@ class PatchRasterizer {
         PatchHierarchy hierarchy;
         SpaceNodes nodes;  // the hierarchy's boxes in the tile tests' bounds space
         TileRange tiles;   // the tiles its screen bounds cover
+        // A static frame's (Effects::screenPlaneSamples): each leaf's distinct vertices
+        // projected and snapped (screen_triangle.h), in the order of the leaf vertex table.
+        std::vector<ScreenVertex> screenVertices;
     };
     // `triangles`: one group of the mesh's hierarchyOrder, in that order; `leafTable`, the
     // group's leaf vertex table there, which the group shares and must not outlive (made for the
@@ -48,6 +52,7 @@ class PatchRasterizer {
     void prepareGroup(const MovingMesh& mesh, const std::uint32_t* triangles, std::size_t count,
                       Group& group, RasterWork& work,
                       const LeafVertexTable* leafTable = nullptr) const;
+    void projectLeafVertices(const MovingMesh& mesh, Group& group, RasterWork& work) const;
     // `rays` holds the tile's rays and nearest hits (TileRays::load); transparent hits go to
     // `targets.transparent` from pool `targets.pool`.
     void rasterizeTile(const MovingMesh& mesh, const Group& group, int tileX, int tileY,

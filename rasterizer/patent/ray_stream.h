@@ -26,6 +26,7 @@
 
 #include "core/time_range.h"
 #include "rasterizer/common/moving_mesh.h"
+#include "rasterizer/common/screen_triangle.h"
 #include "rasterizer/common/transparent_layers.h"
 #include "rasterizer/patent/patch_hierarchy.h"
 #include "rasterizer/patent/raster_work.h"
@@ -47,6 +48,8 @@ struct StreamPass {
     // Set for a transparent mesh: every hit is offered to the layers from pool `pool`.
     TransparentLayers* transparent = nullptr;
     int pool = 0;
+    // A static frame's projected leaf vertices (PatchRasterizer::Group), for screen_pass.h.
+    const ScreenVertex* screenVertices = nullptr;
 };
 
 // Traces the pass's rays; nearer opaque hits are kept in `rays`, counts go to `work`.

@@ -6,6 +6,7 @@
 #include <limits>
 
 #include "rasterizer/common/pixel_counters.h"
+#include "rasterizer/common/screen_triangle.h"
 #include "rasterizer/common/z_culling.h"
 #include "rasterizer/patent/ray_stream.h"
 
@@ -37,7 +38,8 @@ TileRays::TileRays(const TileRayFrame& frame) : frame_(frame) {
     depthPerLambda_ = frame.lens.radius > 0 ? frame.lens.focusDistance : 1.0f;
     lambdaMin_ = frame.camera->nearPlane() / depthPerLambda_;
     farDepth_ = frame.camera->farPlane();
-    buckets_ = frame.motion ? std::clamp(spp, 1, kMaxTimeBuckets) : 1;
+    // A screen-plane frame tests a pixel's samples together, whatever their times.
+    buckets_ = frame.motion && !frame.screenPlane ? std::clamp(spp, 1, kMaxTimeBuckets) : 1;
     bucketBegin_.assign(std::size_t(buckets_) + 1, 0);
     for (int y = 0; y < s; ++y)
         for (int x = 0; x < s; ++x) morton_.push_back(std::uint16_t(y * s + x));
@@ -61,6 +63,11 @@ TileRays::TileRays(const TileRayFrame& frame) : frame_(frame) {
                                          &shearY,   &shearZ,   &lensU,    &lensV,      &bestDepth,
                                          &bestB1,   &bestB2,   &rayEnd};
     for (int a = 0; a < kFloatArrays; ++a) *floatArrays[a] = floats_.get() + std::size_t(a) * n;
+    if (frame.screenPlane) {
+        subpixels_ = hwy::AllocateAligned<float>(2 * (n + kMaxLanes));
+        subpixelX = subpixels_.get();
+        subpixelY = subpixels_.get() + n + kMaxLanes;
+    }
     ints_ = hwy::AllocateAligned<std::int32_t>(n * kIntArrays);
     std::int32_t** intArrays[kIntArrays] = {&axisX,     &axisY,  &axisZ,  &parallelAxes,
                                             &bestPatch, nullptr, nullptr, nullptr};
@@ -87,7 +94,7 @@ TileRays::TileRays(const TileRayFrame& frame) : frame_(frame) {
 }
 
 std::uint64_t TileRays::bytesFor(int tileSize, int samplesPerPixel, bool countPerSample,
-                                 bool generatesSamples) {
+                                 bool generatesSamples, bool screenPlane) {
     const auto pixels = std::uint64_t(tileSize) * std::uint64_t(tileSize);
     const std::uint64_t samples = pixels * std::uint64_t(samplesPerPixel);
     const std::uint64_t n = (samples + kMaxLanes - 1) / kMaxLanes * kMaxLanes;
@@ -99,6 +106,7 @@ std::uint64_t TileRays::bytesFor(int tileSize, int samplesPerPixel, bool countPe
     bytes += std::uint64_t(3 * 3 * kMaxLeafTriangles * kMaxLanes) * sizeof(float);  // vertices_
     bytes += samples * sizeof(std::uint16_t);                                       // bucket_
     if (generatesSamples) bytes += samples * (sizeof(Sample) + sizeof(Vec2));
+    if (screenPlane) bytes += 2 * (n + kMaxLanes) * sizeof(float);  // subpixelX, subpixelY
     bytes +=
         pixels * (2 * sizeof(std::uint16_t) + sizeof(std::array<int, 2>) + sizeof(PixelSamples));
     bytes += std::uint64_t(kMaxTimeBuckets + 1) * sizeof(int);  // bucketBegin_
@@ -148,6 +156,10 @@ void TileRays::pixelSamples(int k, const Sample*& samples, const Vec2*& disk) {
     record[i] = p.firstRecord + std::uint32_t(j);
     lensU[i] = smp.lens.x;
     lensV[i] = smp.lens.y;
+    if (frame_.screenPlane) {
+        subpixelX[i] = float(sampleSubpixel(int(p.corner.x), smp.pixelOffset.x));
+        subpixelY[i] = float(sampleSubpixel(int(p.corner.y), smp.pixelOffset.y));
+    }
 }
 
 // A stable counting sort of the tile's samples by time bucket (within a bucket the Morton pixel
@@ -265,6 +277,7 @@ void TileRays::load(const TileRect& rect, const VisibilityBuffer& buffer) {
                                   std::size_t(frame_.samplesPerPixel) * sizeof(VisibilityRecord);
         for (std::size_t b = 0; b < bytes; b += 64) __builtin_prefetch(records + b, 1);
     }
+    rect_ = rect;
     orderByBucket(rect);
     padded_ = roundUpToLanes(count_);
     // Dead samples: in no time range (NaN fails every comparison), never hit, depth bound 0.
@@ -272,6 +285,7 @@ void TileRays::load(const TileRect& rect, const VisibilityBuffer& buffer) {
         time[i] = directionX[i] = directionY[i] = originX[i] = originY[i] =
             std::numeric_limits<float>::quiet_NaN();
         record[i] = 0;
+        if (frame_.screenPlane) subpixelX[i] = subpixelY[i] = 0.0f;
     }
     const Camera& camera = *frame_.camera;
     computeRayConstants(*this, {float(camera.width()), float(camera.height()), camera.tanHalfFovY(),

@@ -62,6 +62,9 @@ struct TileRayFrame {
     // The visibility buffer holds no hits yet: a tile's samples start without one instead of
     // reading the buffer.
     bool bufferStartsEmpty = false;
+    // Nothing moves and there is no lens (Effects::screenPlaneSamples): each sample also keeps
+    // its sub-pixel position for the edge-function test (screen_pass.h).
+    bool screenPlane = false;
 };
 
 // The camera as the ray setup needs it (rasterToScreen, makeCameraRay).
@@ -78,10 +81,11 @@ class TileRays {
     // Allocates for the frame's largest tile; nothing is allocated per tile afterwards.
     explicit TileRays(const TileRayFrame& frame);
     // What that allocation comes to for tiles of `tileSize` pixels at `samplesPerPixel` (with
-    // per-sample work kept, and with the tile's samples generated rather than read from a table):
+    // per-sample work kept, with the tile's samples generated rather than read from a table, and
+    // with sub-pixel positions kept):
     // each rasterizer worker holds one, so a frame's memory budget counts it once per worker.
     static std::uint64_t bytesFor(int tileSize, int samplesPerPixel, bool countPerSample,
-                                  bool generatesSamples);
+                                  bool generatesSamples, bool screenPlane);
 
     // Makes the rays of tile `rect`; each sample's nearest hit so far comes from `buffer` (unless
     // the frame says it starts empty).
@@ -89,7 +93,14 @@ class TileRays {
     // Writes the samples that got a nearer hit back to `buffer`, and per-sample work to `pixels`.
     void store(VisibilityBuffer& buffer, PixelCounters* pixels) const;
 
-    int count() const { return count_; }      // live samples
+    int count() const { return count_; }  // live samples
+    const TileRect& rect() const { return rect_; }
+    int samplesPerPixel() const { return frame_.samplesPerPixel; }
+    // Without motion (one bucket): the first of pixel (x, y)'s samples, which are consecutive.
+    int firstSampleOf(int x, int y) const {
+        return rankOf_[std::size_t((y - rect_.y0) * frame_.tileSize + (x - rect_.x0))] *
+               frame_.samplesPerPixel;
+    }
     int padded() const { return padded_; }    // a multiple of kMaxLanes
     int buckets() const { return buckets_; }  // time buckets
     // The bucket of time t; monotone in t, so every sample of a bucket below bucketOf(tmin) has a
@@ -148,6 +159,10 @@ class TileRays {
     // nearer hit shortens it to that hit's end, so with z culling it stays the depth bound's end
     // and a pass starts from it as it stands; without, each pass sets its own.
     float* rayEnd;
+    // With TileRayFrame::screenPlane: the sample's raster position on the sub-pixel grid
+    // (screen_triangle.h), padded like the other arrays, with room for a vector read past the end.
+    float* subpixelX = nullptr;  // integers below 2^24, exact in float
+    float* subpixelY = nullptr;
     std::uint32_t* work[std::size_t(SampleWork::kCount)];  // only with countPerSample
 
     // Whether every ray shears along z (the fast path of the triangle test), and whether any
@@ -203,6 +218,7 @@ class TileRays {
     void summarize();
 
     TileRayFrame frame_;
+    TileRect rect_{};
     float depthPerLambda_ = 1, lambdaMin_ = 0, farDepth_ = 0;
     int capacity_ = 0, count_ = 0, padded_ = 0, buckets_ = 1;
     float farthest_ = 0;
@@ -225,6 +241,7 @@ class TileRays {
     std::vector<Sample> generated_;
     std::vector<Vec2> generatedDisk_;
     hwy::AlignedFreeUniquePtr<float[]> floats_;
+    hwy::AlignedFreeUniquePtr<float[]> subpixels_;
     hwy::AlignedFreeUniquePtr<std::int32_t[]> ints_;
     hwy::AlignedFreeUniquePtr<std::uint32_t[]> counts_;
     hwy::AlignedFreeUniquePtr<std::uint16_t[]> changed_, improved_;

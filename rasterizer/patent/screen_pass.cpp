@@ -1,0 +1,317 @@
+// The edge-function kernel, compiled once per SIMD target (Highway's foreach_target re-includes
+// this file).
+#undef HWY_TARGET_INCLUDE
+#define HWY_TARGET_INCLUDE "rasterizer/patent/screen_pass.cpp"
+#include "rasterizer/patent/screen_pass.h"
+
+#include <hwy/foreach_target.h>  // must come before highway.h
+#include <hwy/highway.h>
+
+#include <algorithm>
+#include <bit>
+#include <cstdint>
+
+#include "rasterizer/common/conservative_margins.h"
+#include "rasterizer/common/screen_triangle.h"
+#include "rasterizer/common/z_culling.h"
+
+HWY_BEFORE_NAMESPACE();
+namespace patchsim {
+namespace HWY_NAMESPACE {
+namespace hn = hwy::HWY_NAMESPACE;
+
+// A small triangle's edge functions are exact in float: 16 samples a vector. A larger one's in
+// double: 8, their floats loaded and widened.
+using DF = hn::CappedTag<float, 16>;
+using VF = hn::Vec<DF>;
+using MF = hn::Mask<DF>;
+using DD = hn::CappedTag<double, 8>;
+using VD = hn::Vec<DD>;
+using MD = hn::Mask<DD>;
+using DF8 = hn::Rebind<float, DD>;
+
+// The bits of a mask of at most 16 lanes.
+template <class D>
+HWY_INLINE unsigned bitsOf(D d, hn::Mask<D> m) {
+    std::uint8_t bytes[8] = {};
+    hn::StoreMaskBits(d, m, bytes);
+    return unsigned(bytes[0]) | unsigned(bytes[1]) << 8;
+}
+
+template <bool kEveryHit, bool kCount>
+class ScreenPass {
+  public:
+    ScreenPass(TileRays& rays, const StreamPass& pass, const Camera& camera, RasterWork& work)
+        : rays_(rays),
+          pass_(pass),
+          camera_(camera),
+          mesh_(*pass.mesh),
+          work_(work),
+          spp_(rays.samplesPerPixel()),
+          near_(rays.lambdaMin() * rays.depthPerLambda()) {}
+
+    void run() {
+        const TileTraversal& traversal = *pass_.traversal;
+        const PatchHierarchy& h = *pass_.hierarchy;
+        work_.branchDepthSum += h.levelOf(pass_.branchNode);
+        startSamples();
+        for (std::uint64_t leaves = traversal.leafMask; leaves; leaves &= leaves - 1) {
+            const int leaf = std::countr_zero(leaves);
+            std::size_t count = 0;
+            const std::uint32_t* triangles = h.leafTriangles(leaf, count);
+            const ScreenVertex* vertices = pass_.screenVertices + h.leafVertexOffset(leaf);
+            const std::uint8_t* corners = h.leafCorners(leaf);
+            for (std::size_t k = 0; k < count; ++k)
+                triangle(triangles[k], vertices[corners[3 * k]], vertices[corners[3 * k + 1]],
+                         vertices[corners[3 * k + 2]]);
+        }
+        work_.edgeTests += edgeTests_;
+        finish();
+    }
+
+  private:
+    // Every sample of the tile is considered (there is one time); without z culling each ends at
+    // the far plane, or at its depth bound when every hit is kept (ray_stream.cpp's rule).
+    void startSamples() {
+        const int n = rays_.count();
+        work_.samplesTested += n;
+        std::fill(rays_.passImproved(), rays_.passImproved() + rays_.padded() / kMaxLanes,
+                  std::uint16_t(0));
+        if (!pass_.zCulling) {
+            const float far = rays_.farDepth(), perLambda = rays_.depthPerLambda();
+            for (int i = 0; i < n; ++i) {
+                const float bound =
+                    kEveryHit && rays_.bestDepth[i] < far ? rays_.bestDepth[i] : far;
+                rays_.rayEnd[i] = rayEndAtDepth(bound, perLambda);
+            }
+        }
+        if (kCount)
+            for (int i = 0; i < n; ++i) ++rays_.work[std::size_t(SampleWork::Tested)][i];
+    }
+
+    void triangle(std::uint32_t tri, const ScreenVertex& a, const ScreenVertex& b,
+                  const ScreenVertex& c) {
+        ++work_.screenTriangleSetups;
+        const ScreenTriangle t = setupScreenTriangle(camera_, a, b, c);
+        if (t.kind == ScreenTriangle::Kind::NeedsRay) return withRays(tri);
+        if (t.kind == ScreenTriangle::Kind::Empty) return;
+        const TileRect& tile = rays_.rect();
+        const int x0 = std::max(t.pixelX0, tile.x0), x1 = std::min(t.pixelX1, tile.x1);
+        const int y0 = std::max(t.pixelY0, tile.y0), y1 = std::min(t.pixelY1, tile.y1);
+        if (x0 >= x1 || y0 >= y1) return;
+        if (t.small) {
+            const Edges<DF> e(DF(), t);
+            for (int y = y0; y < y1; ++y)
+                for (int x = x0; x < x1; ++x) smallPixel(e, t, tri, rays_.firstSampleOf(x, y));
+        } else {
+            const Edges<DD> e(DD(), t);
+            for (int y = y0; y < y1; ++y)
+                for (int x = x0; x < x1; ++x) largePixel(e, t, tri, rays_.firstSampleOf(x, y));
+        }
+    }
+
+    // The triangle's constants as vectors of lane type T.
+    template <class D>
+    struct Edges {
+        hn::Vec<D> a[3], b[3], x0[3], y0[3];
+        bool owns[3];
+        Edges(D d, const ScreenTriangle& t) {
+            using T = hn::TFromD<D>;
+            for (int i = 0; i < 3; ++i) {
+                a[i] = hn::Set(d, T(t.a[i]));
+                b[i] = hn::Set(d, T(t.b[i]));
+                x0[i] = hn::Set(d, T(t.x0[i]));
+                y0[i] = hn::Set(d, T(t.y0[i]));
+                owns[i] = t.ownsTies[i];
+            }
+        }
+        // The three edge functions at (x, y) and whether the sample is inside.
+        hn::Mask<D> inside(D d, hn::Vec<D> x, hn::Vec<D> y, hn::Vec<D>* edge) const {
+            hn::Mask<D> in = hn::Not(hn::FirstN(d, 0));
+            for (int k = 0; k < 3; ++k) {
+                edge[k] =
+                    hn::Add(hn::Mul(a[k], hn::Sub(x, x0[k])), hn::Mul(b[k], hn::Sub(y, y0[k])));
+                in = hn::And(in,
+                             owns[k] ? hn::Ge(edge[k], hn::Zero(d)) : hn::Gt(edge[k], hn::Zero(d)));
+            }
+            return in;
+        }
+    };
+
+    // coverSample (screen_triangle.h) for samples [first, first + spp) of a small triangle, 16
+    // at a time: exact edge functions, then interpolateScreenHit's float operations.
+    void smallPixel(const Edges<DF>& e, const ScreenTriangle& t, std::uint32_t tri, int first) {
+        const DF d;
+        const int lanes = int(hn::Lanes(d));
+        edgeTests_ += spp_;
+        const VF inverseDepth[3] = {hn::Set(d, t.inverseDepth[0]), hn::Set(d, t.inverseDepth[1]),
+                                    hn::Set(d, t.inverseDepth[2])};
+        for (int i = 0; i < spp_; i += lanes) {
+            const MF valid = hn::FirstN(d, std::size_t(std::min(lanes, spp_ - i)));
+            if (kCount) countTests(first + i, bitsOf(d, valid));
+            VF edge[3];
+            const MF inside =
+                hn::And(valid, e.inside(d, hn::LoadU(d, rays_.subpixelX + first + i),
+                                        hn::LoadU(d, rays_.subpixelY + first + i), edge));
+            if (hn::AllFalse(d, inside)) continue;
+            const VF w0 = hn::Mul(edge[0], inverseDepth[0]);
+            const VF w1 = hn::Mul(edge[1], inverseDepth[1]);
+            const VF w2 = hn::Mul(edge[2], inverseDepth[2]);
+            const VF inverseSum = hn::Div(hn::Set(d, 1.0f), hn::Add(hn::Add(w0, w1), w2));
+            alignas(64) float depth[16], b1[16], b2[16];
+            hn::Store(hn::Mul(hn::Set(d, t.area), inverseSum), d, depth);
+            hn::Store(hn::Mul(w1, inverseSum), d, b1);
+            hn::Store(hn::Mul(w2, inverseSum), d, b2);
+            for (unsigned rest = bitsOf(d, inside); rest; rest &= rest - 1) {
+                const int lane = std::countr_zero(rest);
+                offer(first + i + lane, tri, {depth[lane], b1[lane], b2[lane]});
+            }
+        }
+    }
+
+    // The same for a larger triangle, 8 samples at a time in double; a covered sample's hit from
+    // its edge functions rounded to float.
+    void largePixel(const Edges<DD>& e, const ScreenTriangle& t, std::uint32_t tri, int first) {
+        const DD d;
+        const DF8 df;
+        const int lanes = int(hn::Lanes(d));
+        edgeTests_ += spp_;
+        for (int i = 0; i < spp_; i += lanes) {
+            const MD valid = hn::FirstN(d, std::size_t(std::min(lanes, spp_ - i)));
+            if (kCount) countTests(first + i, bitsOf(d, valid));
+            VD edge[3];
+            const MD inside = hn::And(
+                valid,
+                e.inside(d, hn::PromoteTo(d, hn::LoadU(df, rays_.subpixelX + first + i)),
+                         hn::PromoteTo(d, hn::LoadU(df, rays_.subpixelY + first + i)), edge));
+            if (hn::AllFalse(d, inside)) continue;
+            alignas(64) double e0[8], e1[8], e2[8];
+            hn::Store(edge[0], d, e0);
+            hn::Store(edge[1], d, e1);
+            hn::Store(edge[2], d, e2);
+            for (unsigned rest = bitsOf(d, inside); rest; rest &= rest - 1) {
+                const int lane = std::countr_zero(rest);
+                offer(first + i + lane, tri,
+                      interpolateScreenHit(t, float(e0[lane]), float(e1[lane]), float(e2[lane])));
+            }
+        }
+    }
+
+    // A covered sample's hit, kept if within its ray's range (the depth range of coverSample).
+    void offer(int sample, std::uint32_t tri, const ScreenHit& hit) {
+        if (!(hit.depth >= near_ && hit.depth <= rays_.rayEnd[sample])) return;
+        accept(sample, tri, hit.depth, hit.b1, hit.b2);
+    }
+
+    void countTests(int first, unsigned valid) {
+        for (unsigned rest = valid; rest; rest &= rest - 1)
+            ++rays_.work[std::size_t(SampleWork::TriangleTests)][first + std::countr_zero(rest)];
+    }
+
+    // A triangle with no screen form: the tile's rays, as the reference tests it.
+    void withRays(std::uint32_t tri) {
+        const std::uint32_t* v = &mesh_.indices[3 * std::size_t(tri)];
+        const int n = rays_.count();
+        work_.raysCast += n;
+        work_.rayTriangleTests += n;
+        for (int i = 0; i < n; ++i) {
+            const Ray ray = rays_.ray(i);
+            TriangleHit hit;
+            if (intersectTriangle(shearRay(ray), mesh_.vertexAt(v[0], ray.time),
+                                  mesh_.vertexAt(v[1], ray.time), mesh_.vertexAt(v[2], ray.time),
+                                  rays_.lambdaMin(), rays_.rayEnd[i], hit))
+                accept(i, tri, hit.lambda * rays_.depthPerLambda(), hit.b1, hit.b2);
+        }
+    }
+
+    // A hit of sample i within its ray's range: offered to the layers, or kept when nearest.
+    void accept(int i, std::uint32_t tri, float depth, float b1, float b2) {
+        VisibilityRecord hit;
+        hit.depth = depth;
+        hit.patch = mesh_.patchOf(tri);
+        hit.triangle = mesh_.triangleInPatchOf(tri);
+        hit.b1 = b1;
+        hit.b2 = b2;
+        const auto at = std::size_t(i);
+        if constexpr (kEveryHit) {
+            hit.time = rays_.time[at];
+            hit.lens = {rays_.lensU[at], rays_.lensV[at]};
+            ++work_.transparentFragments;
+            if (kCount) ++rays_.work[std::size_t(SampleWork::Visible)][at];
+            if (!pass_.transparent->offer(rays_.record[at], pass_.pool,
+                                          LayerFragment{hit, mesh_.objectId}))
+                ++work_.transparentOverflow;
+        } else {
+            VisibilityRecord best;
+            best.depth = rays_.bestDepth[at];
+            best.patch = rays_.bestPatch[at];
+            best.triangle = rays_.bestTriangle[at];
+            if (!hit.nearerThan(best)) return;
+            rays_.bestDepth[at] = hit.depth;
+            rays_.bestPatch[at] = hit.patch;
+            rays_.bestTriangle[at] = hit.triangle;
+            rays_.bestB1[at] = b1;
+            rays_.bestB2[at] = b2;
+            // The ray path's rule (TileRays::rayEnd): the nearest hit's end, or the far plane's.
+            rays_.rayEnd[at] =
+                std::min(rays_.rayEnd[at], rayEndAtDepth(depth, rays_.depthPerLambda()));
+            rays_.passImproved()[at / kMaxLanes] |= std::uint16_t(1u << (at % kMaxLanes));
+        }
+    }
+
+    // Samples whose nearest hit changed in this pass are visibility samples.
+    void finish() {
+        const std::uint16_t* improved = rays_.passImproved();
+        std::int64_t visible = 0;
+        for (int b = 0; b < rays_.padded() / kMaxLanes; ++b) {
+            if (!improved[b]) continue;
+            visible += std::popcount(improved[b]);
+            rays_.changed[b] |= improved[b];
+            if (kCount)
+                for (unsigned rest = improved[b]; rest; rest &= rest - 1)
+                    ++rays_.work[std::size_t(SampleWork::Visible)]
+                                [std::size_t(b) * kMaxLanes + std::size_t(std::countr_zero(rest))];
+        }
+        work_.visibilitySamples += visible;
+        if (visible) rays_.depthBoundsChanged();
+    }
+
+    TileRays& rays_;
+    const StreamPass& pass_;
+    const Camera& camera_;
+    const MovingMesh& mesh_;
+    RasterWork& work_;
+    const int spp_;
+    const float near_;
+    std::int64_t edgeTests_ = 0;
+};
+
+void RasterizeImpl(TileRays& rays, const StreamPass& pass, const Camera& camera, RasterWork& work) {
+    const bool everyHit = pass.transparent != nullptr;
+    const bool counting = rays.work[0] != nullptr;
+    if (everyHit && counting)
+        ScreenPass<true, true>(rays, pass, camera, work).run();
+    else if (everyHit)
+        ScreenPass<true, false>(rays, pass, camera, work).run();
+    else if (counting)
+        ScreenPass<false, true>(rays, pass, camera, work).run();
+    else
+        ScreenPass<false, false>(rays, pass, camera, work).run();
+}
+
+}  // namespace HWY_NAMESPACE
+}  // namespace patchsim
+HWY_AFTER_NAMESPACE();
+
+#if HWY_ONCE
+namespace patchsim {
+
+HWY_EXPORT(RasterizeImpl);
+
+void rasterizeScreenPass(TileRays& rays, const StreamPass& pass, const Camera& camera,
+                         RasterWork& work) {
+    HWY_DYNAMIC_DISPATCH(RasterizeImpl)(rays, pass, camera, work);
+}
+
+}  // namespace patchsim
+#endif
