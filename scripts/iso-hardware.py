@@ -35,10 +35,10 @@ COSTS = [
     ("RS", "ray_triangle_tests", 56, 72, "rasterizer/common/watertight_triangle.h",
      "vertices at the ray's time (9 FMA), translate (9), shear (6), edge functions (6), signs (6), "
      "determinant and its checks (4), depth (6), reciprocal (4), range (2), barycentrics (4)"),
-    ("RS", "edge_tests", 34, 16, "rasterizer/patent/screen_pass.cpp, common/screen_triangle.h",
+    ("RS", "edge_tests", 29, 8, "rasterizer/patent/screen_pass.cpp, common/screen_triangle.h",
      "per edge two subtracts, a multiply and a multiply-add (4) and the tie-rule compare (1), "
-     "masks (2); the perspective-correct depth and barycentrics (3 multiplies, 2 adds, 3 divides: "
-     "17), charged with every test though only covered samples need them"),
+     "masks (2); the perspective-correct depth and barycentrics (6 multiplies, 2 adds, a "
+     "reciprocal: 12), charged with every test though only covered samples need them"),
     ("RS", "triangle_setups", 150, 72, "bounding_rasterizer.cpp spanBounds",
      "six vertex positions (3 FMA each), depth checks (2), reciprocal (4), circle of confusion "
      "(3), projection (2), box growth (8): 22 per point; pixel rectangle (18)"),

@@ -281,21 +281,21 @@ TEST(BoundingRasterizer, TrianglesBehindTheCameraAtBothEndsAreCulledWithoutATest
     }
 }
 
-// The samples and rays each band prepares ahead (69 bytes a sample with a static frame's sub-pixel
-// positions; 73 with the interval method's stratum order) count against the memory budget with the
+// The samples and rays each band prepares ahead (61 bytes a sample with a static frame's sub-pixel
+// positions; 65 with the interval method's stratum order) count against the memory budget with the
 // film: a render whose film fits but whose bands' samples do not is refused before it starts,
 // naming film.spp.
 TEST(BoundingRasterizer, TheBandsPreparedSamplesCountAgainstTheMemoryBudget) {
     const SceneDesc scene = small("scenes/motion.json");  // 48 x 36 at 4 spp: 16 bands of 2-3 rows
-    // Per sample 13 floats, the shear axes' byte and two doubles of sub-pixel position (and the
+    // Per sample 13 floats, the shear axes' byte and two floats of sub-pixel position (and the
     // interval method's two stratum entries); per band one row's candidate list: an index and a ray
     // end per candidate, padded by a vector of 16, and a 16-byte hit.
     const std::uint64_t rowSamples = 48u * 4u;
     const std::uint64_t candidates = (rowSamples + 16u) * 8u + rowSamples * 16u;
     EXPECT_EQ(boundingBandScratchBytes(48, 36, 4, Bounding::TriangleBBox, 2),
-              2u * (3u * rowSamples * 69u + candidates));
+              2u * (3u * rowSamples * 61u + candidates));
     EXPECT_EQ(boundingBandScratchBytes(48, 36, 4, Bounding::Interval, 64),
-              16u * (3u * rowSamples * 73u + candidates))
+              16u * (3u * rowSamples * 65u + candidates))
         << "no more bands at once than there are bands";
     for (const char* name : {"triangle-bbox", "interval", "interleaved"}) {
         const VisibilityMethod& method = methodNamed(name);

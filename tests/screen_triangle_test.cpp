@@ -34,9 +34,11 @@ bool covers(const ScreenTriangle& t, double x, double y) {
            coverSample(t, x, y, 0.0f, std::numeric_limits<float>::infinity(), hit);
 }
 
-// A mesh of 8 x 6 quads over the frame at varying depth, its inner vertices jittered, each quad
-// split along a diagonal chosen at random: every sub-pixel lattice point strictly inside the mesh,
-// on edges and vertices included, is covered by exactly one triangle.
+// A mesh of 8 x 6 quads over the frame at varying depth, its inner vertices jittered except on
+// every other row and every third column (so edges also run along pixel lines), each quad split
+// along a diagonal chosen at random and each triangle wound either way: every sub-pixel lattice
+// point strictly inside the mesh, on edges and vertices included, is covered by exactly one
+// triangle.
 TEST(ScreenTriangle, EverySubpixelInsideAMeshIsCoveredExactlyOnce) {
     const Camera camera = testCamera();
     std::mt19937 rng(3);
@@ -47,24 +49,32 @@ TEST(ScreenTriangle, EverySubpixelInsideAMeshIsCoveredExactlyOnce) {
         for (int i = 0; i <= kColumns; ++i) {
             const bool inner = i > 0 && i < kColumns && j > 0 && j < kRows;
             // Some inner vertices on exact pixel corners, so edges run along lattice lines.
-            const bool snapped = (i + j) % 3 == 0;
+            const bool snapped = j % 2 == 0 || i % 3 == 0;
             const float x = 4.0f + 7.0f * float(i) + (inner && !snapped ? jitter(rng) : 0.0f);
             const float y = 3.0f + 7.0f * float(j) + (inner && !snapped ? jitter(rng) : 0.0f);
             grid.push_back(atRaster(camera, x, y, depth(rng)));
         }
     std::vector<ScreenTriangle> triangles;
+    int reversedCount = 0;
     for (int j = 0; j < kRows; ++j)
         for (int i = 0; i < kColumns; ++i) {
             const Vec3& a = grid[std::size_t(j * (kColumns + 1) + i)];
             const Vec3& b = grid[std::size_t(j * (kColumns + 1) + i + 1)];
             const Vec3& c = grid[std::size_t((j + 1) * (kColumns + 1) + i)];
             const Vec3& d = grid[std::size_t((j + 1) * (kColumns + 1) + i + 1)];
+            // Either winding: the tie rule must hold after the orientation flip.
+            const auto add = [&](const Vec3& p, const Vec3& q, const Vec3& r) {
+                const bool reverse = rng() % 2;
+                reversedCount += reverse;
+                triangles.push_back(reverse ? setupScreenTriangle(camera, r, q, p)
+                                            : setupScreenTriangle(camera, p, q, r));
+            };
             if (rng() % 2) {
-                triangles.push_back(setupScreenTriangle(camera, a, b, d));
-                triangles.push_back(setupScreenTriangle(camera, d, c, a));  // the other winding
+                add(a, b, d);
+                add(d, c, a);
             } else {
-                triangles.push_back(setupScreenTriangle(camera, a, b, c));
-                triangles.push_back(setupScreenTriangle(camera, b, d, c));
+                add(a, b, c);
+                add(b, d, c);
             }
         }
     int onEdges = 0;
@@ -84,16 +94,19 @@ TEST(ScreenTriangle, EverySubpixelInsideAMeshIsCoveredExactlyOnce) {
             ASSERT_EQ(count, 1) << "sub-pixel (" << x << ", " << y << ")";
         }
     EXPECT_GT(onEdges, 1000) << "the lattice should put many samples exactly on edges";
+    EXPECT_GT(reversedCount, 10) << "both orientations, so the flip is exercised";
 }
 
-// D3D11's rule for a square of two triangles: samples on its top and left edges are inside, on
-// its bottom and right edges outside, and the shared diagonal belongs to one triangle.
-TEST(ScreenTriangle, TheTopLeftRuleOwnsTopAndLeftEdges) {
+void expectTopLeftSquare(bool reversed) {
     const Camera camera = testCamera();
     const Vec3 topLeft = atRaster(camera, 10, 10, 3), topRight = atRaster(camera, 20, 10, 3);
     const Vec3 bottomLeft = atRaster(camera, 10, 20, 3), bottomRight = atRaster(camera, 20, 20, 3);
-    const ScreenTriangle upper = setupScreenTriangle(camera, topLeft, topRight, bottomRight);
-    const ScreenTriangle lower = setupScreenTriangle(camera, bottomRight, bottomLeft, topLeft);
+    const ScreenTriangle upper = reversed
+                                     ? setupScreenTriangle(camera, bottomRight, topRight, topLeft)
+                                     : setupScreenTriangle(camera, topLeft, topRight, bottomRight);
+    const ScreenTriangle lower =
+        reversed ? setupScreenTriangle(camera, topLeft, bottomLeft, bottomRight)
+                 : setupScreenTriangle(camera, bottomRight, bottomLeft, topLeft);
     const auto inSquare = [&](double x, double y) {
         return int(covers(upper, x * 256, y * 256)) + int(covers(lower, x * 256, y * 256));
     };
@@ -107,6 +120,16 @@ TEST(ScreenTriangle, TheTopLeftRuleOwnsTopAndLeftEdges) {
     EXPECT_EQ(inSquare(10, 20), 0) << "bottom-left corner (on the bottom edge)";
     EXPECT_EQ(inSquare(15, 15), 1) << "the diagonal";
     EXPECT_EQ(inSquare(12.5, 12.5), 1) << "the diagonal";
+}
+
+// D3D11's rule for a square of two triangles, wound either way: samples on its top and left
+// edges are inside, on its bottom and right edges outside, and the shared diagonal belongs to one
+// triangle.
+TEST(ScreenTriangle, TheTopLeftRuleOwnsTopAndLeftEdges) {
+    for (const bool reversed : {false, true}) {
+        SCOPED_TRACE(reversed ? "clockwise on screen" : "counter-clockwise on screen");
+        expectTopLeftSquare(reversed);
+    }
 }
 
 // Away from its edges, the screen test finds the ray test's hit: the same depth and barycentrics,

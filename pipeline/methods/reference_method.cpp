@@ -31,7 +31,7 @@ void ReferenceFrame::visibility() {
         ReferenceWork work;
         VisibilityTargets mine = in_.targets;
         mine.pool = int(band);
-        renderReferenceRows(*in_.meshes, in_.camera(), in_.lens(), *in_.samples,
+        renderReferenceRows(*in_.meshes, in_.camera(), in_.lens(), *in_.samples, in_.effects.motion,
                             FramePartition::bandBegin(int(band), height),
                             FramePartition::bandBegin(int(band) + 1, height), mine, work);
         progress.advance();

@@ -160,7 +160,7 @@ BandSamples::BandSamples(const RayCaster& c, int width, int spp, int y0, int y1,
     static_assert(std::tuple_size_v<decltype(floats)> == kFloatArrays);
     for (std::vector<float>* array : floats) array->resize(n);
     axes_.resize(n);
-    const bool screenPlane = c.samples.effects().screenPlaneSamples();
+    const bool screenPlane = c.screenPlane();
     if (screenPlane) {
         subpixelX_.resize(n);
         subpixelY_.resize(n);
@@ -190,8 +190,8 @@ BandSamples::BandSamples(const RayCaster& c, int width, int spp, int y0, int y1,
                 lensU_[i] = smp.lens.x;
                 lensV_[i] = smp.lens.y;
                 if (screenPlane) {
-                    subpixelX_[i] = sampleSubpixel(x, smp.pixelOffset.x);
-                    subpixelY_[i] = sampleSubpixel(y, smp.pixelOffset.y);
+                    subpixelX_[i] = float(sampleSubpixel(x, smp.pixelOffset.x));
+                    subpixelY_[i] = float(sampleSubpixel(y, smp.pixelOffset.y));
                 }
             }
     if (strata > 0) orderByStratum(strata);
@@ -199,7 +199,7 @@ BandSamples::BandSamples(const RayCaster& c, int width, int spp, int y0, int y1,
 
 std::uint64_t BandSamples::bytesPerSample(bool strata, bool screenPlane) {
     return kFloatArrays * sizeof(float) + sizeof(std::uint8_t) +
-           (strata ? 2 * sizeof(std::uint16_t) : 0) + (screenPlane ? 2 * sizeof(double) : 0);
+           (strata ? 2 * sizeof(std::uint16_t) : 0) + (screenPlane ? 2 * sizeof(float) : 0);
 }
 
 ShearedRay BandSamples::shearedRay(std::size_t i) const {

@@ -92,9 +92,9 @@ class BandSamples {
     std::vector<float> originX_, originY_, originZ_, shearX_, shearY_, shearZ_, time_, lambdaMin_;
     std::vector<float> depthPerLambda_, screenX_, screenY_, lensU_, lensV_;
     std::vector<std::uint8_t> axes_;
-    std::vector<double> subpixelX_, subpixelY_;
-    std::vector<std::uint16_t> byStratum_;  // per pixel, spp sample indices in order of stratum
-    std::vector<std::uint16_t> stratum_;    // the stratum of each of those
+    std::vector<float> subpixelX_, subpixelY_;  // integers below 2^24, exact in float
+    std::vector<std::uint16_t> byStratum_;      // per pixel, spp sample indices in order of stratum
+    std::vector<std::uint16_t> stratum_;        // the stratum of each of those
 };
 
 // A triangle moving linearly over the shutter: its corners at shutter open and close.

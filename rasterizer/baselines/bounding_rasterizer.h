@@ -72,7 +72,7 @@ bool parseTriangleBound(const std::string& name, TriangleBound& out);
       Op::SamplesTested)                                                                         \
     X(rayTriangleTests, "Ray-triangle tests", "tests", Sum,                                      \
       "Sample-triangle pairs tested with a watertight ray-triangle test", Op::RayTriangleTests)  \
-    X(edgeTests, "Edge tests", "samples", Sum,                                                   \
+    X(edgeTests, "Edge tests", "tests", Sum,                                                     \
       "Static frames: sample-triangle pairs tested with the three fixed-point edge functions "   \
       "(screen_triangle.h) instead of a ray",                                                    \
       Op::EdgeTests)                                                                             \

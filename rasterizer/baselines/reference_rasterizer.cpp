@@ -81,12 +81,13 @@ struct SampleTester {
 }  // namespace
 
 void renderReferenceRows(const std::vector<MovingMesh>& meshes, const Camera& camera,
-                         const LensModel& lens, const SampleGenerator& samples, int y0, int y1,
-                         const VisibilityTargets& targets, ReferenceWork& total) {
+                         const LensModel& lens, const SampleGenerator& samples, bool motion, int y0,
+                         int y1, const VisibilityTargets& targets, ReferenceWork& total) {
     ReferenceWork work;
     RasterWork layerWork;
     VisibilityBuffer& buffer = *targets.opaque;
-    const std::vector<ScreenTriangle> screen = samples.effects().screenPlaneSamples()
+    // One set-up per triangle for the band (a reference, outside the memory budget).
+    const std::vector<ScreenTriangle> screen = !motion && !(lens.radius > 0)
                                                    ? screenTriangles(meshes, camera)
                                                    : std::vector<ScreenTriangle>();
     for (int y = y0; y < y1; ++y) {

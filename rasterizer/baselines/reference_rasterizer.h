@@ -40,9 +40,10 @@ const ReferenceCounters& referenceCounters();
 const RatioCounter& referenceSampleTestEfficiency();
 
 // Rows [y0, y1) of the frame; every sample's record becomes the nearest opaque hit over all
-// meshes, and every transparent hit in front of it goes to the transparent layers.
+// meshes, and every transparent hit in front of it goes to the transparent layers. `motion`: the
+// geometry moves (without it and without a lens, samples are tested with edge functions).
 void renderReferenceRows(const std::vector<MovingMesh>& meshes, const Camera& camera,
-                         const LensModel& lens, const SampleGenerator& samples, int y0, int y1,
-                         const VisibilityTargets& targets, ReferenceWork& work);
+                         const LensModel& lens, const SampleGenerator& samples, bool motion, int y0,
+                         int y1, const VisibilityTargets& targets, ReferenceWork& work);
 
 }  // namespace patchsim

@@ -16,6 +16,9 @@ struct RayCaster {
     const SampleGenerator& samples;
     bool motion = false;   // samples outside a tile's time range are rejected
     bool zCulling = true;  // rays end at their sample's depth
+    // Nothing moves and there is no lens: samples are tested with edge functions
+    // (screen_triangle.h), on the meshes' t=0 positions.
+    bool screenPlane() const { return !motion && !(lens.radius > 0); }
 };
 
 // The ray of sample `s` of pixel (x, y), with the camera's near-to-far range.

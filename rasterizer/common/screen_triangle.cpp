@@ -32,7 +32,7 @@ ScreenVertex projectToScreen(const Camera& camera, const Vec3& p) {
 
 ScreenTriangle setupScreenTriangle(const Camera& camera, const ScreenVertex& v0,
                                    const ScreenVertex& v1, const ScreenVertex& v2) {
-    ScreenTriangle t;
+    ScreenTriangle t{};
     if (!v0.valid || !v1.valid || !v2.valid) {
         t.kind = ScreenTriangle::Kind::NeedsRay;
         return t;

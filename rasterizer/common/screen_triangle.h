@@ -8,9 +8,11 @@
 // --------------
 // Positions are in sub-pixels: raster coordinates (pixels, y down) times 2^kSubpixelBits, rounded
 // to integers (ties to even), as D3D11 snaps vertices to 16.8 fixed point with 8 sub-pixel bits.
-// The sample positions are snapped to the same grid, each inside its pixel (sampleSubpixel). The
-// integers are held in doubles, where every quantity below is exact: vertex coordinates lie within
-// the guard band (|x| < 2^23 sub-pixels, D3D11's 16 integer bits), so an edge function A (x - xa) +
+// The sample positions are snapped to the same grid, each inside its pixel (sampleSubpixel; films
+// are at most 16384 pixels wide and high, so a sample's coordinate is below 2^22 and exact in
+// float). The integers are held in doubles, where every quantity below is exact: vertex
+// coordinates lie within the guard band (|x| < 2^23 sub-pixels, D3D11's 16 integer bits, which
+// holds every film), so an edge function A (x - xa) +
 // B (y - ya) has factors below 2^24, products below 2^48 and a sum below 2^49, and twice the
 // triangle's area below 2^51 (a double holds integers to 2^53). Exact edge functions make the test
 // independent of evaluation order, so the scalar test here and the vector ones in the rasterizers

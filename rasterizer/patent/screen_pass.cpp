@@ -199,7 +199,8 @@ class ScreenPass {
 
     // A covered sample's hit, kept if within its ray's range (the depth range of coverSample).
     void offer(int sample, std::uint32_t tri, const ScreenHit& hit) {
-        if (!(hit.depth >= near_ && hit.depth <= rays_.rayEnd[sample])) return;
+        if (!(hit.depth >= near_ && hit.depth <= rays_.rayEnd[sample] * rays_.depthPerLambda()))
+            return;
         accept(sample, tri, hit.depth, hit.b1, hit.b2);
     }
 

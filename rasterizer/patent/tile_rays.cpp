@@ -65,6 +65,7 @@ TileRays::TileRays(const TileRayFrame& frame) : frame_(frame) {
     for (int a = 0; a < kFloatArrays; ++a) *floatArrays[a] = floats_.get() + std::size_t(a) * n;
     if (frame.screenPlane) {
         subpixels_ = hwy::AllocateAligned<float>(2 * (n + kMaxLanes));
+        std::fill_n(subpixels_.get(), 2 * (n + kMaxLanes), 0.0f);  // vector reads past the end
         subpixelX = subpixels_.get();
         subpixelY = subpixels_.get() + n + kMaxLanes;
     }
