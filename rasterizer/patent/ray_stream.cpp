@@ -673,22 +673,7 @@ class Pass {
 
     // Samples whose nearest hit changed in this pass (samples [first, last)) are visibility
     // samples.
-    void finish(int first, int last) {
-        const std::uint16_t* improved = rays_.passImproved();
-        std::int64_t visible = 0;
-        for (int b = first / kMaxLanes; b < (last + kMaxLanes - 1) / kMaxLanes; ++b) {
-            if (!improved[b]) continue;
-            visible += std::popcount(improved[b]);
-            rays_.changed[b] |= improved[b];
-            if (kCount) {
-                for (std::uint16_t rest = improved[b]; rest; rest &= std::uint16_t(rest - 1))
-                    ++rays_.work[std::size_t(SampleWork::Visible)]
-                                [std::size_t(b) * kMaxLanes + std::size_t(std::countr_zero(rest))];
-            }
-        }
-        work_.visibilitySamples += visible;
-        if (visible) rays_.depthBoundsChanged();
-    }
+    void finish(int first, int last) { work_.visibilitySamples += rays_.commitPass(first, last); }
 
     const DF d_{};
     const DI di_{};

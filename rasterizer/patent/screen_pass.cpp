@@ -261,21 +261,7 @@ class ScreenPass {
     }
 
     // Samples whose nearest hit changed in this pass are visibility samples.
-    void finish() {
-        const std::uint16_t* improved = rays_.passImproved();
-        std::int64_t visible = 0;
-        for (int b = 0; b < rays_.padded() / kMaxLanes; ++b) {
-            if (!improved[b]) continue;
-            visible += std::popcount(improved[b]);
-            rays_.changed[b] |= improved[b];
-            if (kCount)
-                for (unsigned rest = improved[b]; rest; rest &= rest - 1)
-                    ++rays_.work[std::size_t(SampleWork::Visible)]
-                                [std::size_t(b) * kMaxLanes + std::size_t(std::countr_zero(rest))];
-        }
-        work_.visibilitySamples += visible;
-        if (visible) rays_.depthBoundsChanged();
-    }
+    void finish() { work_.visibilitySamples += rays_.commitPass(0, rays_.padded()); }
 
     TileRays& rays_;
     const StreamPass& pass_;

@@ -114,6 +114,22 @@ std::uint64_t TileRays::bytesFor(int tileSize, int samplesPerPixel, bool countPe
     return bytes;
 }
 
+std::int64_t TileRays::commitPass(int first, int last) {
+    const std::uint16_t* improved = improved_.get();
+    std::int64_t visible = 0;
+    for (int b = first / kMaxLanes; b < (last + kMaxLanes - 1) / kMaxLanes; ++b) {
+        if (!improved[b]) continue;
+        visible += std::popcount(improved[b]);
+        changed[b] |= improved[b];
+        if (work[0] != nullptr)
+            for (unsigned rest = improved[b]; rest; rest &= rest - 1)
+                ++work[std::size_t(SampleWork::Visible)]
+                      [std::size_t(b) * kMaxLanes + std::size_t(std::countr_zero(rest))];
+    }
+    if (visible) depthBoundsChanged();
+    return visible;
+}
+
 void TileRays::indexRange(TimeRange times, int& first, int& last) const {
     if (times.isEmpty()) {
         first = last = 0;

@@ -177,6 +177,9 @@ class TileRays {
     bool anyParallel() const { return anyParallel_; }
     // Per batch of kMaxLanes samples: bit j, sample j of the batch got a nearer hit in this tile.
     std::uint16_t* changed;
+    // Ends a pass over samples [first, last): the samples it improved (passImproved) are marked
+    // changed, and counted as visible in the per-sample work; returns how many.
+    std::int64_t commitPass(int first, int last);
 
     // The rays of one level of a descent that met one box: their sample indices and, beside
     // them, the per-ray data of the box test, packed in the same order. The next level loads
