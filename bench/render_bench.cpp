@@ -1,6 +1,6 @@
 // A whole render in one process, as `patchsim render` does it without reading the scene file or
 // writing images: front end, visibility, shading and resolve, on 1 and 2 threads (range(0)).
-// Process start-up (loading OpenImageIO's shared libraries) and file output are not in it; see
+// Process start-up, the image module's load and file output are not in it; see
 // docs/PERFORMANCE.md for the whole command timed from outside. Also the sampler alone: the
 // default film's samples (320 x 240 x 16, time and lens) on one thread, which a render makes
 // tile by tile inside its visibility step.

@@ -1,19 +1,46 @@
 #include "core/counters.h"
 
 #include <algorithm>
+#include <deque>
+#include <mutex>
 #include <stdexcept>
 
 namespace patchsim {
 
 namespace {
 
-// This thread's counts, by counter index. Counters register during static initialisation, before
-// any worker runs, but a thread may count before it has a slot for a later counter: grow on use.
-thread_local std::vector<std::int64_t> threadCounts;
+// Every thread's counts, by counter index, in blocks that live as long as the process. The thread
+// holds only a pointer to its block: a thread_local with a destructor registers with the C runtime
+// on first use, and that registration waits for any dlopen under way (the image module loads
+// beside the render; backend/images/image_io_module.h), stalling a worker for the whole load.
+// Never destroyed: a parked worker may hold its pointer until the process ends.
+struct ThreadCountBlocks {
+    std::mutex mutex;
+    std::deque<std::vector<std::int64_t>> blocks;
+};
+ThreadCountBlocks& threadCountBlocks() {
+    static ThreadCountBlocks* const all = new ThreadCountBlocks;
+    return *all;
+}
+
+thread_local std::vector<std::int64_t>* threadCounts = nullptr;
+
+// Counters register during static initialisation, before any worker runs, but a thread may count
+// before it has a slot for a later counter: grow on use.
+std::vector<std::int64_t>& growThreadCounts(std::size_t index) {
+    if (!threadCounts) {
+        ThreadCountBlocks& all = threadCountBlocks();
+        std::lock_guard lock(all.mutex);
+        threadCounts = &all.blocks.emplace_back();
+    }
+    if (index >= threadCounts->size()) threadCounts->resize(index + 1, 0);
+    return *threadCounts;
+}
 
 std::int64_t& threadSlot(std::size_t index) {
-    if (index >= threadCounts.size()) threadCounts.resize(index + 1, 0);
-    return threadCounts[index];
+    std::vector<std::int64_t>* mine = threadCounts;
+    if (!mine || index >= mine->size()) mine = &growThreadCounts(index);
+    return (*mine)[index];
 }
 
 }  // namespace
@@ -80,12 +107,13 @@ std::size_t CounterRegistry::add(const CounterInfo& info) {
 }
 
 void CounterRegistry::flushThread() {
+    if (!threadCounts) return;  // this thread never counted
+    std::vector<std::int64_t>& counts = *threadCounts;
     std::lock_guard lock(mutex_);
-    for (std::size_t i = 0; i < threadCounts.size() && i < totals_.size(); ++i) {
+    for (std::size_t i = 0; i < counts.size() && i < totals_.size(); ++i) {
         std::int64_t& total = totals_[i];
-        total = infos_[i].kind == CounterKind::Max ? std::max(total, threadCounts[i])
-                                                   : total + threadCounts[i];
-        threadCounts[i] = 0;
+        total = infos_[i].kind == CounterKind::Max ? std::max(total, counts[i]) : total + counts[i];
+        counts[i] = 0;
     }
 }
 

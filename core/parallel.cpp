@@ -21,10 +21,7 @@ bool WorkerPool::tryRun(std::size_t helpers, const std::function<void(std::size_
     } release{busy_};
     {
         std::lock_guard lock(state_);
-        while (threads_.size() < helpers) {
-            const std::size_t helper = threads_.size() + 1;
-            threads_.emplace_back([this, helper] { serve(helper); });
-        }
+        startHelpersLocked(helpers);
         share_ = &share;
         helpersWanted_ = helpersRunning_ = helpers;
         ++generation_;
@@ -35,6 +32,19 @@ bool WorkerPool::tryRun(std::size_t helpers, const std::function<void(std::size_
     finished_.wait(lock, [this] { return helpersRunning_ == 0; });
     share_ = nullptr;
     return true;
+}
+
+void WorkerPool::startHelpers(std::size_t helpers) {
+    if (long(getpid()) != owner_) return;
+    std::lock_guard lock(state_);
+    startHelpersLocked(helpers);
+}
+
+void WorkerPool::startHelpersLocked(std::size_t helpers) {
+    while (threads_.size() < helpers) {
+        const std::size_t helper = threads_.size() + 1;
+        threads_.emplace_back([this, helper] { serve(helper); });
+    }
 }
 
 // Helper `helper` (1-based) takes part in every loop that wants at least that many helpers.

@@ -44,8 +44,12 @@ class WorkerPool {
     // Returns false without running anything when the pool is running another loop, or when this
     // process is a fork of the one that started the pool's threads.
     bool tryRun(std::size_t helpers, const std::function<void(std::size_t)>& share);
+    // Starts the threads `helpers` helpers need now rather than at the first loop (a thread
+    // started while another thread is inside dlopen waits for it; see image_io_module.h).
+    void startHelpers(std::size_t helpers);
 
   private:
+    void startHelpersLocked(std::size_t helpers);
     WorkerPool();
     void serve(std::size_t helper);
 

@@ -32,8 +32,11 @@ namespace {
 
 constexpr std::uint32_t kCageEdgeOne = 1u << 17;
 
-// Far reports topology errors through a global callback; collect the first one per thread.
-thread_local std::string farError;
+// Far reports topology errors through a process-wide callback; the first one is kept here, under
+// the mutex that guards the callback. (Not thread_local: a thread_local with a destructor
+// registers with the C runtime on first use, which waits for any dlopen under way;
+// backend/images/image_io_module.h.)
+std::string farError;
 void onFarError(osd::Far::ErrorType, const char* message) {
     if (farError.empty()) farError = message;
 }

@@ -1,12 +1,12 @@
 #include "backend/images/heat_map.h"
 
-#include <OpenImageIO/imagebuf.h>
-#include <OpenImageIO/imagebufalgo.h>
-
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 
+#include "backend/images/image.h"
+#include "backend/images/image_io_module.h"
 #include "core/error.h"
 
 namespace patchsim {
@@ -41,12 +41,42 @@ HeatColor heatColor(float t) {
             kInferno[i][2] + f * (kInferno[i + 1][2] - kInferno[i][2])};
 }
 
+namespace {
+
+// An 8-bit RGB picture the heat map is drawn into.
+struct Canvas {
+    int width, height;
+    std::vector<std::uint8_t> rgb;
+
+    Canvas(int w, int h) : width(w), height(h), rgb(std::size_t(w) * std::size_t(h) * 3, 0) {}
+    void set(int x, int y, const HeatColor& c) {
+        std::uint8_t* p = &rgb[(std::size_t(y) * std::size_t(width) + std::size_t(x)) * 3];
+        for (const float v : {c.r, c.g, c.b})
+            *p++ = std::uint8_t(std::lround(std::clamp(v, 0.0f, 1.0f) * 255.0f));
+    }
+    void text(const std::string& path, int x, int y, const std::string& words, int size,
+              bool alignRight = false) {
+        TextRequest request;
+        request.rgb = rgb.data();
+        request.width = width;
+        request.height = height;
+        request.x = x;
+        request.y = y;
+        request.text = words;
+        request.size = size;
+        request.font = kFont;
+        request.alignRight = alignRight;
+        std::string error;
+        if (!imageIo().drawText(request, error)) throw InputError(path, "", error);
+    }
+};
+
+}  // namespace
+
 void writeHeatMap(const HeatMapGrid& grid, const std::string& path) {
     const int width = std::max(grid.cellsX * grid.cellPixels, 200);
     const int mapHeight = grid.cellsY * grid.cellPixels;
-    OIIO::ImageBuf image(
-        OIIO::ImageSpec(width, mapHeight + kLegendHeight, 3, OIIO::TypeDesc::UINT8));
-    OIIO::ImageBufAlgo::zero(image);
+    Canvas image(width, mapHeight + kLegendHeight);
     float lo = 0, hi = 0;
     if (!grid.values.empty()) {
         lo = *std::min_element(grid.values.begin(), grid.values.end());
@@ -58,26 +88,19 @@ void writeHeatMap(const HeatMapGrid& grid, const std::string& path) {
             const float v =
                 grid.values[std::size_t(y / grid.cellPixels) * std::size_t(grid.cellsX) +
                             std::size_t(x / grid.cellPixels)];
-            const HeatColor c = heatColor((v - lo) / range);
-            const float rgb[3] = {c.r, c.g, c.b};
-            image.setpixel(x, y, rgb);
+            image.set(x, y, heatColor((v - lo) / range));
         }
     }
     // Legend: the colour bar from min to max, labelled.
     const int barY = mapHeight + 22, barHeight = 10, barX0 = 4, barX1 = width - 4;
     for (int x = barX0; x < barX1; ++x) {
         const HeatColor c = heatColor(float(x - barX0) / float(barX1 - barX0 - 1));
-        const float rgb[3] = {c.r, c.g, c.b};
-        for (int y = barY; y < barY + barHeight; ++y) image.setpixel(x, y, rgb);
+        for (int y = barY; y < barY + barHeight; ++y) image.set(x, y, c);
     }
-    const float white[3] = {1, 1, 1};
-    OIIO::ImageBufAlgo::render_text(image, barX0, mapHeight + 15, grid.title, 12, kFont, white);
-    OIIO::ImageBufAlgo::render_text(image, barX0, mapHeight + kLegendHeight - 1, formatValue(lo),
-                                    10, kFont, white);
-    OIIO::ImageBufAlgo::render_text(image, barX1, mapHeight + kLegendHeight - 1, formatValue(hi),
-                                    10, kFont, white, OIIO::ImageBufAlgo::TextAlignX::Right);
-    if (!image.write(path))
-        throw InputError(path, "", "cannot write heat map: " + image.geterror());
+    image.text(path, barX0, mapHeight + 15, grid.title, 12);
+    image.text(path, barX0, mapHeight + kLegendHeight - 1, formatValue(lo), 10);
+    image.text(path, barX1, mapHeight + kLegendHeight - 1, formatValue(hi), 10, true);
+    writeRgb8(path, image.width, image.height, image.rgb.data());
 }
 
 namespace {

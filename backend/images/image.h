@@ -49,6 +49,10 @@ void writeExr(const Image& image, const std::string& path);
 void writeFloatChannels(const std::string& path, int width, int height,
                         const std::vector<std::string>& names, std::span<const float> pixels);
 void writePng(const Image& image, const std::string& path);
+// 8-bit RGB, row-major, width * height * 3 bytes (PNG or any 8-bit format).
+void writeRgb8(const std::string& path, int width, int height, const unsigned char* rgb);
+// Threads the writers may compress with (the job's --threads; 1 until a command sets it).
+void setImageWriterThreads(int threads);
 Image readImage(const std::string& path);  // for tests and tools; float RGB
 std::vector<std::string> readChannelNames(const std::string& path);
 // One named channel of an image file, row-major; throws InputError when it has none.

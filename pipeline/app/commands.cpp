@@ -4,14 +4,17 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <future>
 #include <iostream>
 #include <map>
 #include <nlohmann/json.hpp>
 
 #include "backend/images/heat_map.h"
 #include "backend/images/image.h"
+#include "backend/images/image_io_module.h"
 #include "core/error.h"
 #include "core/output_set.h"
+#include "core/parallel.h"
 #include "core/rasterizer_options.h"
 #include "core/text_file.h"
 #include "pipeline/driver/explore.h"
@@ -242,8 +245,18 @@ bool reserveRenderOutputs(const JobSettings& s, const SceneDesc& scene, const Mp
 std::vector<std::string> writeRenderOutputs(const JobSettings& s, const RenderResult& result,
                                             const StatsContext& context,
                                             const CounterValues& counters, OutputSet& outputs) {
-    writeExrWithAovs(result.frame, outputs.file(joinOutputPath(s.output, "image.exr"), "-o"));
-    writePng(result.frame.color, outputs.file(joinOutputPath(s.output, "image.png"), "-o"));
+    const std::string exr = outputs.file(joinOutputPath(s.output, "image.exr"), "-o");
+    const std::string png = outputs.file(joinOutputPath(s.output, "image.png"), "-o");
+    // The two files are independent: with a second thread the PNG is written beside the EXR.
+    if (resolveThreadCount(s.threads) > 1) {
+        auto pngWritten =
+            std::async(std::launch::async, [&] { writePng(result.frame.color, png); });
+        writeExrWithAovs(result.frame, exr);
+        pngWritten.get();
+    } else {
+        writeExrWithAovs(result.frame, exr);
+        writePng(result.frame.color, png);
+    }
     std::vector<std::string> heatMaps;
     if (result.pixels) heatMaps = writeHeatMaps(*result.pixels, s.output, outputs);
     outputs.writeText(joinOutputPath(s.output, "stats.json"), "-o",
@@ -327,6 +340,14 @@ int runRender(const JobSettings& s, const MpiContext& mpi) {
     // mpirun the frame is split across ranks by screen tiles and rank 0 writes the one output.
     OutputSet outputs;
     if (!reserveRenderOutputs(s, scene, mpi, outputs)) return 2;
+    if (mpi.rank() == 0) {
+        // OpenImageIO's libraries are bound on a side thread while the frame is computed; the
+        // workers start first, as a thread started during dlopen waits for it to finish.
+        const int threads = resolveThreadCount(options.threads);
+        WorkerPool::shared().startHelpers(std::size_t(threads - 1));
+        setImageWriterThreads(threads);
+        preloadImageIo();
+    }
     if (mpi.active()) {
         options.share = {mpi.rank(), mpi.size(),
                          [&mpi](const std::string& mine) { return mpi.gather(mine); },
