@@ -32,13 +32,12 @@ namespace {
 
 constexpr std::uint32_t kCageEdgeOne = 1u << 17;
 
-// Far reports topology errors through a process-wide callback; the first one is kept here, under
-// the mutex that guards the callback. (Not thread_local: a thread_local with a destructor
-// registers with the C runtime on first use, which waits for any dlopen under way;
-// backend/images/image_io_module.h.)
-std::string farError;
+// Far reports topology errors through a process-wide callback; collect the first one per thread.
+// A character array, not a std::string: a thread_local with a destructor registers with the C
+// runtime on first use, which waits for any dlopen under way (backend/images/image_io_module.h).
+thread_local char farError[512] = "";
 void onFarError(osd::Far::ErrorType, const char* message) {
-    if (farError.empty()) farError = message;
+    if (farError[0] == '\0') std::snprintf(farError, sizeof farError, "%s", message);
 }
 
 osd::Sdc::SchemeType toOsd(SubdivisionScheme s) {
@@ -143,14 +142,14 @@ SubdivisionMesh::SubdivisionMesh(const Cage& cage, SubdivisionScheme scheme,
     {
         static std::mutex farMutex;  // the error callback is process-wide
         std::lock_guard lock(farMutex);
-        farError.clear();
+        farError[0] = '\0';
         osd::Far::SetErrorCallback(onFarError);
         impl_->refiner.reset(Factory::Create(desc, options));
         osd::Far::SetErrorCallback(nullptr);
         if (!impl_->refiner)
             throw InputError(path, "f",
                              "OpenSubdiv rejected the topology: " +
-                                 (farError.empty() ? "unknown error" : farError));
+                                 (farError[0] == '\0' ? "unknown error" : std::string(farError)));
     }
     const osd::Far::TopologyLevel& level = impl_->refiner->GetLevel(0);
     impl_->onFar.assign(std::size_t(level.GetNumFaces()), 0);

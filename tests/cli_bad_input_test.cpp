@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 #include <sys/wait.h>
 
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 
@@ -41,6 +42,16 @@ void expectRefused(const std::string& args, const std::string& message) {
     EXPECT_EQ(lines(r.output), 1u) << args << "\n" << r.output;
     EXPECT_EQ(r.output.rfind("patchsim: error: ", 0), 0u) << r.output;
     EXPECT_TRUE(listTree(cwd).empty()) << args << " wrote into the folder it ran in";
+}
+
+// A render or sweep that could not write its pictures is refused before its work.
+TEST(CliBadInput, AMissingImageModuleIsRefusedBeforeTheWork) {
+    const std::string missing = patchsim::test::temporaryDirectory() + "/no-such-module.so";
+    setenv("PATCHSIM_IMAGE_IO_MODULE", missing.c_str(), 1);
+    const std::string refusal = missing + ": patchsim's image module (OpenImageIO) is missing";
+    expectRefused("render --no-progress -q -o out", refusal);
+    expectRefused("sweep --methods patch --spp 1 --no-progress -o out", refusal);
+    unsetenv("PATCHSIM_IMAGE_IO_MODULE");
 }
 
 TEST(CliBadInput, EmptyPathsAreRefusedNotTakenForAFolder) {
@@ -173,7 +184,7 @@ TEST(CliBadInput, RenderTakesFilmOverrides) {
     EXPECT_NE(stats.find("\"height\": \"30\""), std::string::npos) << stats;
     EXPECT_NE(stats.find("\"spp\": \"2\""), std::string::npos) << stats;
     // Every option of the job and of the rasterizer, from the tables.
-    EXPECT_NE(stats.find("\"soft_z_extent\": \"0.0500000007\""), std::string::npos) << stats;
+    EXPECT_NE(stats.find("\"soft_z_extent\": \"0.05\""), std::string::npos) << stats;
     EXPECT_NE(stats.find("\"rasterizer.interior_time_refinement\": \"true\""), std::string::npos);
     EXPECT_NE(stats.find("\"rasterizer.max_triangles_per_group\": \"0\""), std::string::npos);
     expectRefused("render -q --no-progress -o out --spp 4096 --width 16384 --height 16384",

@@ -13,9 +13,9 @@
 // --------------
 // The module exports one C function, `patchsim_image_io`, returning a table of three calls: write
 // interleaved pixels, read a whole file as float, draw text into an 8-bit RGB buffer. Every call
-// reports failure as a message (no exception crosses the boundary); image.cpp and heat_map.cpp
-// turn it into an InputError naming the file. The table carries a version so that a stale module
-// is refused rather than called with the wrong layout.
+// reports failure as a message (each catches what OpenImageIO throws, so no exception crosses the
+// boundary); image.cpp and heat_map.cpp turn it into an InputError naming the file. The table
+// carries a version so that a stale module is refused rather than called with the wrong layout.
 
 #include <cstdint>
 #include <string>
@@ -60,11 +60,17 @@ struct ImageIoTable {
     bool (*drawText)(const TextRequest& request, std::string& error);
 };
 
+// The module's file: $PATCHSIM_IMAGE_IO_MODULE when set; else the one this build made (its
+// absolute path in the build tree); else libpatchsim_image_io.so beside the running program.
+// Throws InputError naming where it looked when there is none.
+std::string imageIoModulePath();
+
 // The module's table, loaded on the first call (and waiting for a preload under way); throws
 // InputError naming the module when it cannot be loaded.
 const ImageIoTable& imageIo();
 
-// Starts loading the module on a side thread and returns at once; the process joins that thread
+// Refuses a missing module at once (imageIoModulePath), then starts loading it on a side thread
+// and returns; the process joins that thread
 // before it exits. Commands that will write images call it first, after starting their worker
 // threads. While the load runs, glibc's loader lock is held: a thread that starts then (its TLS
 // set-up takes that lock), or that first touches a thread_local with a destructor (its

@@ -5,10 +5,25 @@
 #include <OpenImageIO/imagebufalgo.h>
 #include <OpenImageIO/imageio.h>
 
+#include <exception>
+
 #include "backend/images/image_io_module.h"
 
 namespace patchsim {
 namespace {
+
+// Runs `call`, turning anything it throws into `error`: no exception leaves the module.
+template <typename Call>
+bool guarded(std::string& error, const Call& call) {
+    try {
+        return call();
+    } catch (const std::exception& e) {
+        error = e.what();
+    } catch (...) {
+        error = "unknown error in OpenImageIO";
+    }
+    return false;
+}
 
 bool writePixels(const ImageWriteRequest& request, std::string& error) {
     OIIO::ImageSpec spec(request.width, request.height, request.channels,
@@ -66,7 +81,17 @@ bool drawText(const TextRequest& request, std::string& error) {
     return true;
 }
 
-constexpr ImageIoTable kTable{kImageIoVersion, writePixels, readFile, drawText};
+bool guardedWrite(const ImageWriteRequest& request, std::string& error) {
+    return guarded(error, [&] { return writePixels(request, error); });
+}
+bool guardedRead(const std::string& path, bool pixels, ImageFileContents& out, std::string& error) {
+    return guarded(error, [&] { return readFile(path, pixels, out, error); });
+}
+bool guardedDrawText(const TextRequest& request, std::string& error) {
+    return guarded(error, [&] { return drawText(request, error); });
+}
+
+constexpr ImageIoTable kTable{kImageIoVersion, guardedWrite, guardedRead, guardedDrawText};
 
 }  // namespace
 }  // namespace patchsim

@@ -324,6 +324,20 @@ int runTessellate(const JobSettings& s) {
     return 0;
 }
 
+namespace {
+
+// OpenImageIO's libraries are bound on a side thread while the frame is computed. The workers
+// start first (up to one per core; more start on demand), as a thread started during dlopen
+// waits for it to finish (backend/images/image_io_module.h).
+void startWorkersThenImageModule(int threads) {
+    const int workers = std::min(resolveThreadCount(threads), resolveThreadCount(0));
+    WorkerPool::shared().startHelpers(std::size_t(workers - 1));
+    setImageWriterThreads(workers);
+    preloadImageIo();
+}
+
+}  // namespace
+
 int runRender(const JobSettings& s, const MpiContext& mpi) {
     SceneDesc scene;
     RenderOptions options;
@@ -340,14 +354,7 @@ int runRender(const JobSettings& s, const MpiContext& mpi) {
     // mpirun the frame is split across ranks by screen tiles and rank 0 writes the one output.
     OutputSet outputs;
     if (!reserveRenderOutputs(s, scene, mpi, outputs)) return 2;
-    if (mpi.rank() == 0) {
-        // OpenImageIO's libraries are bound on a side thread while the frame is computed; the
-        // workers start first, as a thread started during dlopen waits for it to finish.
-        const int threads = resolveThreadCount(options.threads);
-        WorkerPool::shared().startHelpers(std::size_t(threads - 1));
-        setImageWriterThreads(threads);
-        preloadImageIo();
-    }
+    if (mpi.rank() == 0) startWorkersThenImageModule(options.threads);
     if (mpi.active()) {
         options.share = {mpi.rank(), mpi.size(),
                          [&mpi](const std::string& mine) { return mpi.gather(mine); },
@@ -506,6 +513,7 @@ std::vector<SweepVariant> sweepVariants(const JobSettings& s) {
 }
 
 int runSweepCommand(const JobSettings& s) {
+    imageIoModulePath();  // its pictures need the image module: refuse its absence before the work
     SweepOptions o;
     o.variants = sweepVariants(s);
     o.samplesPerPixel = s.sppList;

@@ -447,7 +447,7 @@ std::string sweepAxisNames() {
 }
 
 // Checks one value of an axis by its option's own rule and gives it as that option reads it back
-// ("04" as "4", "0.90" as "0.899999976"), so two texts of one value are found; returns an error
+// ("04" as "4", "0.90" as "0.9"), so two texts of one value are found; returns an error
 // message.
 std::string checkAxisValue(const SweepAxis& axis, const std::string& value, std::string& held) {
     // A blank would go into file names and CSV fields; the rasterizer's JSON reading skips it.
@@ -520,9 +520,10 @@ std::string jobOptionValue(const JobOption& o, const JobSettings& s) {
             } else if constexpr (std::is_same_v<T, std::string>) {
                 return v;
             } else if constexpr (std::is_same_v<T, float>) {
+                // The shortest text that reads back as this float: 0.9f shows as "0.9".
                 char text[32];
-                std::snprintf(text, sizeof text, "%.9g", double(v));
-                return text;
+                const auto end = std::to_chars(text, text + sizeof text, v).ptr;
+                return std::string(text, end);
             } else if constexpr (std::is_arithmetic_v<T>) {
                 return std::to_string(v);
             } else {
