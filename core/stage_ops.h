@@ -16,30 +16,32 @@
 #include <cstdint>
 
 // X(Enumerator, "json_key", Stage, "definition")
-#define PATCHSIM_STAGE_OPS(X)                                                                  \
-    X(Patches, "patches", IA, "Patches fetched with their control points")                     \
-    X(ControlPoints, "control_points", VS,                                                     \
-      "Control points transformed (at shutter open and close)")                                \
-    X(EdgeFactors, "edge_factors", HS, "Tessellation factors computed (edges and inside)")     \
-    X(DomainPoints, "domain_points", TS, "Domain points the tessellator generates")            \
-    X(Triangles, "triangles", TS, "Triangles the tessellator generates")                       \
-    X(Evaluations, "evaluations", DS, "Limit stencils evaluated at domain points")             \
-    X(StencilApplications, "stencil_applications", DS,                                         \
-      "Stencils applied to control points (position and derivatives, at open and close)")      \
-    X(NodesBuilt, "nodes_built", RS, "Hierarchy nodes built or converted to a bounds space")   \
-    X(PlaneTests, "plane_tests", RS, "Moving boxes tested against one tile plane at one time") \
-    X(TimeIntervals, "time_intervals", RS, "Plane crossing times computed at leaves")          \
-    X(SamplesTested, "samples_tested", RS, "Samples considered against a tile or a triangle")  \
-    X(RayBoxTests, "ray_box_tests", RS, "Rays against a moving box at their time")             \
-    X(RayTriangleTests, "ray_triangle_tests", RS, "Watertight ray-triangle tests at a time")   \
-    X(EdgeTests, "edge_tests", RS,                                                             \
-      "Samples tested against a static triangle's three fixed-point edge functions")           \
-    X(Invocations, "invocations", PS, "Pixel shader invocations")                              \
-    X(DepthTests, "depth_tests", OM, "Visibility samples written to the z-buffer")             \
-    X(TransparentFragments, "transparent_fragments", OM,                                       \
-      "Transparent fragments offered to a sample's layers")                                    \
-    X(TriangleSetups, "triangle_setups", RS, "Triangle screen bounds computed")                \
-    X(PostSamples, "post_samples", PS, "Pixels read by full-screen passes (image-space methods)")
+#define PATCHSIM_STAGE_OPS(X)                                                                     \
+    X(Patches, "patches", IA, "Patches fetched with their control points")                        \
+    X(ControlPoints, "control_points", VS,                                                        \
+      "Control points transformed (at shutter open and close)")                                   \
+    X(EdgeFactors, "edge_factors", HS, "Tessellation factors computed (edges and inside)")        \
+    X(DomainPoints, "domain_points", TS, "Domain points the tessellator generates")               \
+    X(Triangles, "triangles", TS, "Triangles the tessellator generates")                          \
+    X(Evaluations, "evaluations", DS, "Limit stencils evaluated at domain points")                \
+    X(StencilApplications, "stencil_applications", DS,                                            \
+      "Stencils applied to control points (position and derivatives, at open and close)")         \
+    X(NodesBuilt, "nodes_built", RS, "Hierarchy nodes built or converted to a bounds space")      \
+    X(PlaneTests, "plane_tests", RS, "Moving boxes tested against one tile plane at one time")    \
+    X(TimeIntervals, "time_intervals", RS, "Plane crossing times computed at leaves")             \
+    X(SamplesTested, "samples_tested", RS, "Samples considered against a tile or a triangle")     \
+    X(RayBoxTests, "ray_box_tests", RS, "Rays against a moving box at their time")                \
+    X(RayTriangleTests, "ray_triangle_tests", RS, "Watertight ray-triangle tests at a time")      \
+    X(EdgeTests, "edge_tests", RS,                                                                \
+      "Samples tested against a static triangle's three fixed-point edge functions")              \
+    X(Invocations, "invocations", PS, "Pixel shader invocations")                                 \
+    X(DepthTests, "depth_tests", OM, "Visibility samples written to the z-buffer")                \
+    X(TransparentFragments, "transparent_fragments", OM,                                          \
+      "Transparent fragments offered to a sample's layers")                                       \
+    X(TriangleSetups, "triangle_setups", RS, "Triangle screen bounds computed")                   \
+    X(PostSamples, "post_samples", PS, "Pixels read by full-screen passes (image-space methods)") \
+    X(EdgeSetups, "edge_setups", RS,                                                              \
+      "Static triangles set up for edge-function tests: three edges, tie rule, pixel box")
 
 namespace patchsim {
 

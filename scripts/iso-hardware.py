@@ -42,6 +42,10 @@ COSTS = [
     ("RS", "triangle_setups", 150, 72, "bounding_rasterizer.cpp spanBounds",
      "six vertex positions (3 FMA each), depth checks (2), reciprocal (4), circle of confusion "
      "(3), projection (2), box growth (8): 22 per point; pixel rectangle (18)"),
+    ("RS", "edge_setups", 49, 36, "rasterizer/common/screen_triangle.cpp setupScreenTriangle",
+     "from three snapped vertices: edge coefficients (6), twice the area (4), orientation and "
+     "the flip (1 + 6), tie rule (9), area (1), box (8), small-triangle check (4), pixel "
+     "rectangle (8), kind (2)"),
     ("RS", "nodes_built", 24, 96, "rasterizer/patent/patch_hierarchy.cpp",
      "a node's moving box from its two children: 6 min or max at each shutter end per child pair (bounds0, bounds1), two pairs"),
     ("OM", "depth_tests", 2, 32, "rasterizer/common/visibility_buffer.h",

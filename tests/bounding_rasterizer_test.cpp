@@ -207,6 +207,10 @@ TEST(BoundingRasterizer, TheHullBoundRayTestsASubsetOfTheBoxSamples) {
         if (box.byName("BB/Edge tests") > 0) {
             EXPECT_EQ(box.byName("BB/Ray-triangle tests"), 0) << path << ": a static frame";
             EXPECT_EQ(box.byName("BB/Samples tested"), box.byName("BB/Edge tests")) << path;
+            // Its set-ups are edge-function set-ups (edge_setups), one per triangle with a screen
+            // form, not bounds over a shutter span.
+            EXPECT_GT(box.byName("BB/Screen triangle setups"), 0) << path;
+            EXPECT_EQ(box.byName("BB/Triangle setups"), 0) << path;
             continue;
         }
         CounterRegistry::instance().reset();

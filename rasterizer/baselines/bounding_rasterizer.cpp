@@ -200,7 +200,7 @@ class BandRasterizer {
         if (t.kind == ScreenTriangle::Kind::NeedsRay) return false;
         const bool perPass = o_.method == Bounding::Interleaved;
         for (int pass = 0; pass < (perPass ? spp_ : 1); ++pass) {
-            ++work.triangleSetups;
+            ++work.screenTriangleSetups;
             if (t.kind == ScreenTriangle::Kind::Covers)
                 screenSamples(mesh, tri, t, perPass ? pass : 0, perPass ? pass + 1 : spp_, work);
         }
@@ -465,7 +465,8 @@ std::vector<BoundingWork> rasterizeByBounds(const std::vector<MovingMesh>& meshe
             for (std::uint32_t tri = 0; tri < meshes[i].triangleCount(); ++tri)
                 rasterizer.triangle(meshes[i], tri, work);
             if (band != 0)  // counted once
-                work.triangleSetups = work.fullScreenBounds = work.trianglesCulled = 0;
+                work.triangleSetups = work.screenTriangleSetups = work.fullScreenBounds =
+                    work.trianglesCulled = 0;
         }
     });
     std::vector<BoundingWork> perMesh(meshes.size());

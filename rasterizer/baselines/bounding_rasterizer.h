@@ -61,6 +61,10 @@ bool parseTriangleBound(const std::string& name, TriangleBound& out);
       "Triangle screen bounds computed (per triangle; per time stratum; per interleaved pass), " \
       "or one for a triangle culled behind the camera",                                          \
       Op::TriangleSetups)                                                                        \
+    X(screenTriangleSetups, "Screen triangle setups", "triangles", Sum,                          \
+      "Static frames: triangles set up as three fixed-point edge functions (screen_triangle.h; " \
+      "once per triangle, per interleaved pass)",                                                \
+      Op::EdgeSetups)                                                                            \
     X(trianglesCulled, "Triangles culled behind the camera", "triangles", Sum,                   \
       "Triangles nearer than the near plane at both shutter ends, so at every time: no bounds, " \
       "no sample tested (their one setup is counted above)")                                     \

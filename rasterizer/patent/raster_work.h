@@ -67,7 +67,7 @@
     X(screenTriangleSetups, "RS/Screen triangle setups", "triangles", Sum,                         \
       "Static frames: triangles of overlapping leaves snapped to fixed point and set up as edge "  \
       "functions, once per tile",                                                                  \
-      Op::TriangleSetups)                                                                          \
+      Op::EdgeSetups)                                                                              \
     X(edgeTests, "RS/Edge tests", "tests", Sum,                                                    \
       "Static frames: samples tested against a triangle's three edge functions", Op::EdgeTests)    \
     X(visibilitySamples, "RS/Visibility samples", "samples", Sum,                                  \
