@@ -27,6 +27,6 @@ cp scenes/cages/*.obj "$corpus/obj_reader/"
 cp tests/data/opensubdiv/*.obj "$corpus/obj_reader/"
 for name in scene_reader obj_reader hardware_config; do
   echo "fuzzing $name for ${seconds}s"
-  ASAN_OPTIONS=detect_leaks=1 "build-fuzz/fuzz/fuzz_$name" -max_total_time="$seconds" -print_final_stats=1 \
+  ASAN_OPTIONS=detect_leaks=1 LSAN_OPTIONS="suppressions=$PWD/scripts/lsan-suppressions.txt" "build-fuzz/fuzz/fuzz_$name" -max_total_time="$seconds" -print_final_stats=1 \
     -rss_limit_mb=4096 -artifact_prefix="build-fuzz/crash-$name-" "$corpus/$name" 2>&1 | tail -n 12
 done

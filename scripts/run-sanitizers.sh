@@ -7,5 +7,21 @@ bash scripts/install-deps.sh
 BUILD_DIR=build-asan bash scripts/build.sh -DCMAKE_BUILD_TYPE=RelWithDebInfo \
   -DPATCHSIM_SANITIZE=address,undefined -DPATCHSIM_BUILD_BENCHMARKS=OFF
 export ASAN_OPTIONS=detect_leaks=1:abort_on_error=1
+export LSAN_OPTIONS="suppressions=$PWD/scripts/lsan-suppressions.txt"
 export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
-ctest --test-dir build-asan --output-on-failure --parallel "$(nproc)" -LE slow
+log=build-asan/sanitizer-suite.log
+if ctest --test-dir build-asan --output-on-failure --parallel "$(nproc)" -LE slow 2>&1 | tee "$log"; then
+  exit 0
+fi
+# LeakSanitizer's own stop-the-world tracer sometimes crashes at exit ("Tracer caught signal 11"),
+# after the test has passed and before any leak is looked for: a known sanitizer flake
+# (google/sanitizers#1170), not a finding. Only when every failure is that crash are the failed
+# tests run once more; any other failure fails the suite as it is.
+failed=$(wc -l < build-asan/Testing/Temporary/LastTestsFailed.log)
+tracer_crashes=$(grep -c "LeakSanitizer has encountered a fatal error" "$log" || true)
+if [ "$failed" -gt 0 ] && [ "$tracer_crashes" -eq "$failed" ] && grep -q "Tracer caught signal" "$log"; then
+  echo "sanitizers: $failed failure(s), each LeakSanitizer's tracer crashing at exit; running them again"
+  ctest --test-dir build-asan --output-on-failure --rerun-failed
+  exit $?
+fi
+exit 1
