@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <nlohmann/json.hpp>
 #include <sstream>
 
 #include "tests/cli_runner.h"
@@ -769,6 +770,46 @@ TEST(Cli, RenderWithHardwareConfigAndTrace) {
     EXPECT_NE(e.output.find("bad_hw.json: stages.IA: missing stage"), std::string::npos)
         << e.output;
     EXPECT_FALSE(fs::exists(dir + "/bad/image.png"));
+}
+
+// The memory system modelled (pipeline/hw/memory.json): the report and stats.json carry the
+// caches and DRAM, the trace a memory track and DRAM bandwidth; a method that records no traffic
+// says so; sweep refuses to charge one method alone.
+TEST(Cli, RenderWithTheMemorySystemModelled) {
+    const std::string dir = patchsim::test::temporaryDirectory() + "/memory";
+    const std::string hw = sourcePath("pipeline/hw/memory.json");
+    const CommandResult r = run("render -q --no-progress " + sourcePath("scenes/static.json") +
+                                " -o " + dir + " --hw " + hw + " --trace " + dir + "/trace.json");
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    for (const char* line :
+         {"  MEM ", "    DRAM ", "memory: requested bytes by class", "  depth cache ", "  DRAM: "})
+        EXPECT_NE(r.output.find(line), std::string::npos) << line << "\n" << r.output;
+    const auto stats = nlohmann::json::parse(std::ifstream(dir + "/stats.json"));
+    ASSERT_TRUE(stats.contains("memory")) << stats.dump(1);
+    EXPECT_GT(stats["memory"]["dram_write_bytes"].get<double>(), 0);
+    EXPECT_GT(stats["memory"]["requested_bytes"]["depth_writes"].get<double>(), 0);
+    EXPECT_TRUE(stats["timing"].contains("memory"));
+    std::ifstream traceFile(dir + "/trace.json");
+    const std::string trace((std::istreambuf_iterator<char>(traceFile)),
+                            std::istreambuf_iterator<char>());
+    EXPECT_NE(trace.find("\"DRAM bandwidth\""), std::string::npos);
+    EXPECT_NE(trace.find("\"name\":\"memory\""), std::string::npos);
+
+    const CommandResult bbox =
+        run("render -q --no-progress --method triangle-bbox --width 96 --height 64 " +
+            sourcePath("scenes/static.json") + " -o " + dir + "/bbox --hw " + hw);
+    ASSERT_EQ(bbox.exitCode, 0) << bbox.output;
+    EXPECT_NE(bbox.output.find("memory: not modelled for the triangle-bbox method"),
+              std::string::npos)
+        << bbox.output;
+
+    const CommandResult sweep =
+        run("sweep --methods patch --spp 1 --no-progress -o " + dir + "/sweep --hw " + hw);
+    EXPECT_EQ(sweep.exitCode, 2) << sweep.output;
+    EXPECT_NE(sweep.output.find("memory.json: memory: sweep compares every method"),
+              std::string::npos)
+        << sweep.output;
+    EXPECT_FALSE(fs::exists(dir + "/sweep"));
 }
 
 TEST(Cli, UnknownOptionIsAUsageError) {

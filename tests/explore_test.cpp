@@ -68,6 +68,42 @@ TEST(Explore, GridCrossProductAndRows) {
 
 // The patent's bounds spaces and the patch merge are grid axes like any rasterizer option, and
 // every point of them renders.
+// A grid over the memory system's fields: each point replays the frame's traffic through its own
+// caches and DRAM (the render is done once), and the CSV carries the DRAM bytes.
+TEST(Explore, MemoryFieldsAreHardwareAxes) {
+    const ExploreGrid grid = parseExploreGrid(
+        R"({"hardware": {"memory.caches.llc.size_bytes": [16384, 1048576],
+                         "memory.dram.bytes_per_clock": [0.5, 64]},
+            "film": {"width": 48, "height": 32, "spp": 4}})",
+        "grid.json");
+    const std::vector<SceneDesc> scenes = {readSceneFile(test::sourcePath("scenes/motion.json"))};
+    const HardwareConfig memory = readHardwareConfig(test::sourcePath("pipeline/hw/memory.json"));
+    const std::vector<ExploreRow> rows = runExploreJob(scenes, grid, memory, 0, 1);
+    ASSERT_EQ(rows.size(), 4u);
+    const std::string header = exploreCsvHeader(grid);
+    const auto column =
+        std::count(header.begin(), header.begin() + header.find(",dram_bytes"), ',') + 1;
+    const auto dramBytes = [&](const ExploreRow& row) {
+        std::vector<std::string> fields;
+        std::istringstream line(row.csv);
+        for (std::string field; std::getline(line, field, ',');) fields.push_back(field);
+        return std::stod(fields[std::size_t(column)]);
+    };
+    // rows: (small LLC, slow), (small, fast), (large, slow), (large, fast)
+    EXPECT_GT(dramBytes(rows[0]), dramBytes(rows[2]));  // a larger LLC keeps lines on chip
+    EXPECT_EQ(dramBytes(rows[0]), dramBytes(rows[1]));  // bandwidth moves no byte
+    EXPECT_GT(rows[0].totalCycles, rows[1].totalCycles);
+    // Before any render: the grid's memory fields need hardware that models memory.
+    EXPECT_NO_THROW(checkGridHardware(grid, memory));
+    try {
+        checkGridHardware(grid, defaultHardwareConfig());
+        ADD_FAILURE() << "memory axes accepted without a memory section";
+    } catch (const InputError& e) {
+        EXPECT_NE(std::string(e.what()).find("grid.json: hardware.memory."), std::string::npos)
+            << e.what();
+    }
+}
+
 TEST(Explore, BoundsSpacesAndMergingAreGridAxes) {
     const ExploreGrid grid = parseExploreGrid(
         R"({"rasterizer": {"bounds_space": ["3d", "2dh", "2d"], "merge_triangles_below": [0, 64]},

@@ -6,6 +6,7 @@
 #include <nlohmann/json.hpp>
 
 #include "core/error.h"
+#include "core/text_file.h"
 #include "tests/test_paths.h"
 
 namespace patchsim {
@@ -115,6 +116,80 @@ TEST(HardwareConfig, SetPathRefusesWhatTheFileReaderRefuses) {
                 << e.what();
         }
     }
+}
+
+// The memory section: pipeline/hw/memory.json is the default hardware with memory modelled;
+// without the section the model is compute-only.
+TEST(HardwareConfig, TheMemorySectionIsReadAndOptional) {
+    EXPECT_FALSE(defaultHardwareConfig().memory);
+    const HardwareConfig m = readHardwareConfig(test::sourcePath("pipeline/hw/memory.json"));
+    ASSERT_TRUE(m.memory);
+    EXPECT_EQ(m.memory->cache(CacheClient::Depth).geometry.sizeBytes, 16384u);
+    EXPECT_EQ(m.memory->cache(CacheClient::LastLevel).geometry.ways, 16u);
+    EXPECT_EQ(m.memory->lineBytes(), 64u);
+    EXPECT_EQ(m.memory->dramBytesPerClock, 32);
+    const HardwareConfig d = defaultHardwareConfig();
+    for (int s = 0; s < kStageCount; ++s)
+        EXPECT_EQ(m.stages[std::size_t(s)].throughput, d.stages[std::size_t(s)].throughput);
+}
+
+std::string memoryErrorOf(const std::string& edit) {
+    nlohmann::json file =
+        nlohmann::json::parse(readTextFile(test::sourcePath("pipeline/hw/memory.json")));
+    const nlohmann::json patch = nlohmann::json::parse(edit);
+    file["memory"].merge_patch(patch);
+    return errorOf(file.dump());
+}
+
+TEST(HardwareConfig, BadMemoryFieldsAreRefusedByName) {
+    const std::pair<const char*, const char*> cases[] = {
+        {R"({"caches": {"depth": {"size_bytes": 0}}})", "memory.caches.depth.size_bytes: value 0"},
+        {R"({"caches": {"llc": {"ways": 0}}})", "memory.caches.llc.ways"},
+        {R"({"caches": {"depth": {"line_bytes": 48}}})",
+         "memory.caches.depth.line_bytes: must be a power of two"},
+        {R"({"caches": {"visibility": {"line_bytes": 128}}})",
+         "memory.caches.visibility.line_bytes: every cache"},
+        {R"({"caches": {"depth": {"size_bytes": 1000}}})",
+         "memory.caches.depth.size_bytes: must be a whole number of sets"},
+        {R"({"caches": {"depth": {"replacement": "random"}}})", "memory.caches.depth.replacement"},
+        {R"({"caches": {"llc": null}})", "memory.caches.llc: missing cache"},
+        {R"({"dram": {"bytes_per_clock": -1}})", "memory.dram.bytes_per_clock"},
+        {R"({"dram": {"latency": null}})", "memory.dram.latency: missing"},
+        {R"({"surface_tile": 0})", "memory.surface_tile"},
+        {R"({"banks": 4})", "memory.banks: unknown key"}};
+    for (const auto& [edit, expected] : cases)
+        EXPECT_NE(memoryErrorOf(edit).find(expected), std::string::npos)
+            << edit << " -> " << memoryErrorOf(edit);
+}
+
+TEST(HardwareConfig, MemoryParametersBySetPath) {
+    HardwareConfig c = readHardwareConfig(test::sourcePath("pipeline/hw/memory.json"));
+    setHardwareParameter(c, "memory.dram.bytes_per_clock", 8, "grid.json",
+                         "memory.dram.bytes_per_clock");
+    setHardwareParameter(c, "memory.caches.depth.size_bytes", 65536, "grid.json", "d");
+    setHardwareParameter(c, "memory.caches.llc.replacement", "fifo", "grid.json", "r");
+    EXPECT_EQ(c.memory->dramBytesPerClock, 8);
+    EXPECT_EQ(c.memory->cache(CacheClient::Depth).geometry.sizeBytes, 65536u);
+    EXPECT_EQ(c.memory->cache(CacheClient::LastLevel).geometry.replacement, Replacement::Fifo);
+    const auto refusal = [&](HardwareConfig& config, const char* path,
+                             const nlohmann::json& value) {
+        try {
+            setHardwareParameter(config, path, value, "grid.json", "hardware.x");
+        } catch (const InputError& e) {
+            return std::string(e.what());
+        }
+        return std::string("accepted");
+    };
+    EXPECT_NE(
+        refusal(c, "memory.caches.depth.size_bytes", 0).find("grid.json: hardware.x: value 0"),
+        std::string::npos);
+    EXPECT_NE(refusal(c, "memory.caches.tiny.size_bytes", 1).find("unknown hardware parameter"),
+              std::string::npos);
+    EXPECT_NE(refusal(c, "memory.dram.speed", 1).find("unknown hardware parameter"),
+              std::string::npos);
+    HardwareConfig none = defaultHardwareConfig();
+    EXPECT_NE(refusal(none, "memory.dram.latency", 1).find("no \"memory\" section"),
+              std::string::npos);
 }
 
 }  // namespace

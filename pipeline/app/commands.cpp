@@ -262,8 +262,9 @@ std::vector<std::string> writeRenderOutputs(const JobSettings& s, const RenderRe
     outputs.writeText(joinOutputPath(s.output, "stats.json"), "-o",
                       [&](std::ostream& out) { writeStatsJson(out, context, counters); });
     if (!s.trace.empty())
-        outputs.writeText(s.trace, "--trace",
-                          [&](std::ostream& out) { writeChromeTrace(*context.timing, out); });
+        outputs.writeText(s.trace, "--trace", [&](std::ostream& out) {
+            writeChromeTrace(*context.timing, out, context.memory);
+        });
     return heatMaps;
 }
 
@@ -347,9 +348,14 @@ int runRender(const JobSettings& s, const MpiContext& mpi) {
         applyRenderOverrides(s, scene);
         options = renderOptionsOf(s);
         hardware = hardwareOf(s);
+        if (hardware.memory && mpi.size() > 1)
+            throw InputError(s.hardware, "memory",
+                             "the memory model replays one process's frame and does not run "
+                             "under mpirun yet: drop the section or run one rank");
     });
     if (!read) return 2;
     options.threads = mpi.threadsPerRank(s.threads);
+    options.memoryTrace = hardware.memory.has_value();
     // Every output path is checked before the work; nothing is written unless all succeed. Under
     // mpirun the frame is split across ranks by screen tiles and rank 0 writes the one output.
     OutputSet outputs;
@@ -365,10 +371,12 @@ int runRender(const JobSettings& s, const MpiContext& mpi) {
     const RenderResult result = renderScene(scene, options);
     if (!result.complete) return 0;  // another rank writes the frame
     for (const std::string& note : result.notes) std::cerr << "patchsim: " << note << "\n";
-    const TimingReport timing = simulateTiming(result.patchOps, hardware);
+    const FrameTiming frameTiming = timeFrame(result, hardware);
+    const TimingReport& timing = frameTiming.timing;
     const CounterValues counters = CounterRegistry::instance().snapshot();
     const double ste = counters.ratio(options.visibilityMethod().sampleTestEfficiency());
-    StatsContext context{"render", scene.path, {}, {}, &timing};
+    StatsContext context{"render", scene.path, {},
+                         {},       &timing,    frameTiming.memory ? &*frameTiming.memory : nullptr};
     context.facts = renderFacts(scene, options, result, counters, ste, s.hardware);
     context.options = recordedOptions(Command::Render, s, &scene.rasterizer);
     const std::vector<std::string> heatMaps =
@@ -379,6 +387,11 @@ int runRender(const JobSettings& s, const MpiContext& mpi) {
     if (mpi.active())
         std::cout << "split across " << mpi.size() << " MPI ranks by tile-row classes\n";
     printTimingReport(timing, std::cout);
+    if (frameTiming.memory) printMemoryReport(*frameTiming.memory, std::cout);
+    if (frameTiming.memoryNotModelled)
+        std::cout << "memory: not modelled for the " << options.visibilityMethod().name()
+                  << " method yet (only the patch method records its surface traffic); the "
+                     "timing above is the compute-only model's\n";
     printRenderSummary(s, scene, options, result, ste, heatMaps.size());
     return 0;
 }
@@ -412,6 +425,7 @@ int runExplore(const JobSettings& s, const MpiContext& mpi) {
             readNamedFile(s.grid, "--grid", [](const std::string& p) { return readTextFile(p); }),
             s.grid);
         hardware = hardwareOf(s);
+        checkGridHardware(grid, hardware);
     });
     if (!read) return 2;
     OutputSet outputs;  // only rank 0 writes; every rank checks the paths alike
@@ -521,6 +535,11 @@ int runSweepCommand(const JobSettings& s) {
     o.convergedSamplesPerPixel = s.convergedSpp;
     o.render = renderOptionsOf(s);
     o.hardware = hardwareOf(s);
+    if (o.hardware.memory)
+        throw InputError(s.hardware, "memory",
+                         "sweep compares every method, and only the patch method records its "
+                         "memory traffic so far: with memory charged to one method alone the "
+                         "comparison would be unequal; drop the section for sweep");
     o.limits = s.limits();
     o.outputDir = s.output;
     o.progress = !s.noProgress;

@@ -110,6 +110,9 @@ ExploreGrid parseExploreGrid(std::string_view text, const std::string& path) {
         for (auto it = hw->begin(); it != hw->end(); ++it) {
             GridAxis axis = readAxis(section, it.key(), true);
             HardwareConfig probe = defaultHardwareConfig();
+            // A memory field is checked against the memory system's defaults here, and against
+            // the job's hardware file by checkGridHardware.
+            if (it.key().starts_with("memory.")) probe.memory = MemoryConfig{};
             for (std::size_t i = 0; i < axis.json.size(); ++i)
                 setHardwareParameter(probe, it.key(), axis.json[i], path,
                                      section.fieldName(it.key()) + "[" + std::to_string(i) + "]");
@@ -154,13 +157,16 @@ RenderOptions jobRenderOptions(int threads, const SceneLimits& limits) {
     return options;
 }
 
-// The bottleneck's busy share of the frame: near 1, that stage alone sets the cycles, and only
-// more of it (units, throughput) buys a faster frame.
-double bottleneckUtilisation(const TimingReport& t) {
-    return t.bottleneck ? t.stages[std::size_t(*t.bottleneck)].utilisation : 0.0;
-}
-
 }  // namespace
+
+void checkGridHardware(const ExploreGrid& grid, const HardwareConfig& hardware) {
+    for (const GridAxis& axis : grid.hardwareAxes)
+        for (std::size_t i = 0; i < axis.json.size(); ++i) {
+            HardwareConfig probe = hardware;
+            setHardwareParameter(probe, axis.name, axis.json[i], grid.path,
+                                 "hardware." + axis.name + "[" + std::to_string(i) + "]");
+        }
+}
 
 std::vector<ExploreJob> exploreJobs(std::size_t sceneCount, const ExploreGrid& grid) {
     std::vector<ExploreJob> jobs;
@@ -176,7 +182,7 @@ std::string exploreCsvHeader(const ExploreGrid& grid) {
     for (const GridAxis& a : grid.hardwareAxes) header.append(",").append(a.name);
     header +=
         ",total_cycles,microseconds,bottleneck,bottleneck_utilisation,sample_test_efficiency,"
-        "patches_over_scratch_budget";
+        "patches_over_scratch_budget,dram_bytes";
     for (const auto& [name, value] : CounterRegistry::instance().snapshot().byName())
         header.append(",").append(name);
     return header;
@@ -187,7 +193,8 @@ std::vector<ExploreRow> runExploreJob(const std::vector<SceneDesc>& scenes, cons
                                       int threads, const SceneLimits& limits) {
     const ExploreJob job = exploreJobs(scenes.size(), grid)[jobIndex];
     const SceneDesc scene = jobScene(scenes, grid, job, limits);
-    const RenderOptions options = jobRenderOptions(threads, limits);
+    RenderOptions options = jobRenderOptions(threads, limits);
+    options.memoryTrace = baseHardware.memory.has_value();
     CounterRegistry::instance().reset();
     const RenderResult result = renderScene(scene, options);
     const CounterValues counters = CounterRegistry::instance().snapshot();
@@ -205,12 +212,14 @@ std::vector<ExploreRow> runExploreJob(const std::vector<SceneDesc>& scenes, cons
             row.csv.append(",").append(axis.values[choice[a]]);
             row.choice.push_back(choice[a]);
         }
-        const TimingReport t = simulateTiming(result.patchOps, hw);
+        const FrameTiming frame = timeFrame(result, hw);
+        const TimingReport& t = frame.timing;
         row.totalCycles = t.totalCycles;
         for (const std::string& field :
              {formatNumber(t.totalCycles), formatNumber(t.microseconds()),
-              std::string(t.bottleneckName()), formatNumber(bottleneckUtilisation(t)),
-              formatNumber(ste), std::to_string(t.patchesOverBudget)})
+              std::string(t.bottleneckName()), formatNumber(t.bottleneckUtilisation()),
+              formatNumber(ste), std::to_string(t.patchesOverBudget),
+              std::to_string(frame.memory ? frame.memory->dramBytes() : 0)})
             row.csv.append(",").append(field);
         for (const auto& [name, value] : counters.byName())
             row.csv.append(",").append(std::to_string(value));

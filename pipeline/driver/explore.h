@@ -48,6 +48,11 @@ struct ExploreJob {
     std::vector<std::size_t> rasterChoice;  // index into each raster axis
 };
 
+// Throws InputError (the grid file, its field) if a hardware axis's value does not apply to the
+// job's hardware: a memory field when the hardware models no memory, a line size the caches do
+// not share. Called before any render.
+void checkGridHardware(const ExploreGrid& grid, const HardwareConfig& hardware);
+
 std::vector<ExploreJob> exploreJobs(std::size_t sceneCount, const ExploreGrid& grid);
 
 // One point of the grid: which value of every axis (rasterizer axes, then hardware axes), its

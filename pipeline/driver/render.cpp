@@ -130,10 +130,21 @@ RenderResult renderScene(const SceneDesc& scene, const RenderOptions& options) {
     const SampleGenerator samples = method.makeSamples(scene.film, result.effects);
     const VisibilityTargets targets =
         makeBuffers(scene, options, frontEnd.camera(), workers, result);
-    const FrameInputs in{&scene,      &options,   &frontEnd,
-                         &fe.patches, &fe.meshes, result.effects,
-                         &samples,    targets,    options.share.partition(),
-                         workers};
+    if (options.memoryTrace && method.tracesMemory())
+        result.memoryTrace =
+            std::make_unique<MemoryTrace>(scene.film.width, scene.film.height,
+                                          scene.rasterizer.tileSize, scene.film.samplesPerPixel);
+    const FrameInputs in{&scene,
+                         &options,
+                         &frontEnd,
+                         &fe.patches,
+                         &fe.meshes,
+                         result.effects,
+                         &samples,
+                         targets,
+                         options.share.partition(),
+                         workers,
+                         result.memoryTrace.get()};
     const CounterValues beforeVisibility = CounterRegistry::instance().snapshot();
     const std::unique_ptr<MethodFrame> frame = method.start(in);
     frame->visibility();
@@ -156,6 +167,17 @@ RenderResult renderScene(const SceneDesc& scene, const RenderOptions& options) {
     for (std::size_t i = 0; i < result.patchOps.size(); ++i)
         result.patchOps[i].add(frame->ops()[i]);
     return result;
+}
+
+FrameTiming timeFrame(const RenderResult& result, const HardwareConfig& hardware) {
+    FrameTiming t;
+    if (hardware.memory && result.memoryTrace && !result.patchOps.empty())
+        t.memory = simulateMemory(*result.memoryTrace, *hardware.memory,
+                                  {result.patchOps.size(), result.patchOps.size() - 1,
+                                   hierarchySpills(result.patchOps, hardware.scratchBudgetBytes)});
+    t.memoryNotModelled = hardware.memory && !result.memoryTrace;
+    t.timing = simulateTiming(result.patchOps, hardware, t.memory ? &*t.memory : nullptr);
+    return t;
 }
 
 }  // namespace patchsim

@@ -21,6 +21,7 @@
 #include "core/stage_ops.h"
 #include "pipeline/methods/render_options.h"
 #include "pipeline/methods/visibility_method.h"
+#include "pipeline/timing/timing_model.h"
 #include "rasterizer/common/pixel_counters.h"
 #include "rasterizer/common/transparent_layers.h"
 #include "rasterizer/common/visibility_buffer.h"
@@ -39,9 +40,22 @@ struct RenderResult {
     std::unique_ptr<TransparentLayers> transparent;  // null without transparency
     std::unique_ptr<PixelCounters> pixels;           // null without heat maps
     std::vector<PatchOps> patchOps;  // every stage's counted work per patch, for the timing model
+    // The frame's surface traffic (RenderOptions::memoryTrace, methods that record it).
+    std::unique_ptr<MemoryTrace> memoryTrace;
 };
 
 RenderResult renderScene(const SceneDesc& scene, const RenderOptions& options);
+
+// A rendered frame's modelled time on `hardware`: its surface traffic through the memory system
+// when the hardware models one, then the timing model.
+struct FrameTiming {
+    std::optional<MemoryReport> memory;
+    TimingReport timing;
+    // The hardware models memory but the frame's method records no surface traffic: its timing
+    // is the compute-only model's.
+    bool memoryNotModelled = false;
+};
+FrameTiming timeFrame(const RenderResult& result, const HardwareConfig& hardware);
 
 // Throws InputError for what the render refuses before it allocates anything: the rasterizer's
 // options, the transparent layers, and what the method refuses or cannot fit in the memory

@@ -74,7 +74,22 @@ void writeStatsJson(std::ostream& out, const StatsContext& context,
                           {"peak_scratch_bytes", t.peakScratchBytes},
                           {"patches_over_scratch_budget", t.patchesOverBudget},
                           {"stages", stages}};
+        if (t.memory) {
+            const MemoryTiming& m = *t.memory;
+            nlohmann::ordered_json parts = nlohmann::ordered_json::object();
+            for (int k = 0; k < kMemoryParts; ++k)
+                parts[memoryPartTitle(k)] = {{"busy_cycles", m.busy[std::size_t(k)]},
+                                             {"utilisation", m.utilisation[std::size_t(k)]}};
+            json["timing"]["memory"] = {{"busy_cycles", m.server.busy},
+                                        {"stalled_cycles", m.server.stalled},
+                                        {"starved_cycles", m.server.starved},
+                                        {"utilisation", m.server.utilisation},
+                                        {"bound", t.memoryBound},
+                                        {"dram_bytes_per_cycle", m.dramBytesPerCycle},
+                                        {"parts", parts}};
+        }
     }
+    if (context.memory) json["memory"] = memoryReportJson(*context.memory);
     out << json.dump(2) << "\n";
 }
 

@@ -19,6 +19,7 @@ struct StatsContext {
     // The options the job ran with (job_options.h, rasterizer_options.h), by their stats key.
     std::vector<std::pair<std::string, std::string>> options;
     const TimingReport* timing = nullptr;  // cycle report, when modelled
+    const MemoryReport* memory = nullptr;  // memory traffic, when the hardware models memory
 };
 
 void printCounterTable(std::ostream& out, const CounterValues& values);

@@ -18,6 +18,7 @@ void rasterizePatches(const FrameInputs& in, const PatchPass& pass, std::vector<
     frame.threads = in.workers;
     frame.opaqueStartsEmpty = true;  // the buffers the render driver makes
     frame.partition = pass.partition;
+    frame.memoryTrace = pass.memoryTrace;
     if (options.patchOrderSeed) {
         frame.order.resize(in.meshes->size());
         std::iota(frame.order.begin(), frame.order.end(), std::size_t(0));
@@ -75,9 +76,10 @@ class PatchFrame : public TiledFrame {
   public:
     using TiledFrame::TiledFrame;
     void visibility() override {
-        rasterizePatches(
-            in_, {in_.samples, in_.effects, in_.targets, in_.partition, in_.options->progress},
-            ops_);
+        rasterizePatches(in_,
+                         {in_.samples, in_.effects, in_.targets, in_.partition,
+                          in_.options->progress, in_.memoryTrace},
+                         ops_);
     }
 };
 
@@ -88,6 +90,7 @@ class PatchMethod : public VisibilityMethod {
     bool exact() const override { return true; }
     bool countsPerPixel() const override { return true; }
     bool rasterizesPatches() const override { return true; }
+    bool tracesMemory() const override { return true; }
     void check(const SceneDesc& scene, const RenderOptions& options, int workers) const override {
         VisibilityMethod::check(scene, options, workers);
         checkTileScratch(scene, options, workers);

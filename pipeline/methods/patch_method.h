@@ -18,6 +18,7 @@ struct PatchPass {
     VisibilityTargets targets;
     FramePartition partition;
     bool progress;
+    MemoryTrace* memoryTrace = nullptr;  // the frame's surface traffic, when it is recorded
 };
 void rasterizePatches(const FrameInputs& in, const PatchPass& pass, std::vector<PatchOps>& ops);
 

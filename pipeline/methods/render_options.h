@@ -52,6 +52,8 @@ struct RenderOptions {
     bool heatMaps = false;             // collect per-pixel work
     bool progress = false;             // progress bar (when standard error is a terminal)
     std::uint64_t patchOrderSeed = 0;  // > 0: rasterize patches in a shuffled order (tests)
+    // Record the frame's surface traffic for the memory model (the hardware models memory).
+    bool memoryTrace = false;
     // The film and the patch rasterizer's per-worker scratch must fit (--memory-budget-mib).
     std::uint64_t memoryBudgetBytes = SceneLimits{}.memoryBudgetBytes;
     FrameShare share;

@@ -29,6 +29,7 @@
 #include "backend/shading/resolve.h"
 #include "backend/shading/t_fragment.h"
 #include "core/counters.h"
+#include "core/memory_trace.h"
 #include "core/ray.h"
 #include "core/samples.h"
 #include "core/scene.h"
@@ -53,6 +54,9 @@ struct FrameInputs {
     VisibilityTargets targets;
     FramePartition partition;
     int workers = 1;
+    // Where the method records its surface traffic for the memory model, when the hardware
+    // models memory and the method records it (VisibilityMethod::tracesMemory); else null.
+    MemoryTrace* memoryTrace = nullptr;
 
     const Camera& camera() const { return frontEnd->camera(); }
     ShadingContext shading() const { return {frontEnd, patches, meshes, &camera()}; }
@@ -108,6 +112,8 @@ class VisibilityMethod {
     virtual bool rasterizesPatches() const { return false; }
     // Can split a frame between processes (FramePartition).
     virtual bool splitsFrames() const { return true; }
+    // Records its per-sample surface traffic for the memory model (core/memory_trace.h).
+    virtual bool tracesMemory() const { return false; }
 
     // The sample set the method consumes, given the effects the frame simulates.
     virtual SampleGenerator makeSamples(const FilmDesc& film, const Effects& effects) const;

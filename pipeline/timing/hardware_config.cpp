@@ -1,6 +1,8 @@
 #include "pipeline/timing/hardware_config.h"
 
+#include <bit>
 #include <cmath>
+#include <nlohmann/json.hpp>
 
 #include "core/json_fields.h"
 #include "core/text_file.h"
@@ -65,7 +67,148 @@ void readStage(ObjectReader r, StageConfig& s, Stage stage) {
                    "missing or not positive");
 }
 
+constexpr Range kSurfaceTile{1, 256, true};
+constexpr Range kCacheBytes{1, double(std::int64_t(1) << 40), true};
+constexpr Range kLineBytes{16, 4096, true};
+constexpr Range kWays{1, 64, true};
+constexpr Range kLinesPerClock{1e-9, 1e9, false};
+constexpr Range kDramBytesPerClock{1e-9, 1e12, false};
+
+CacheConfig readCache(ObjectReader r) {
+    CacheConfig c;
+    const auto need = [&](const char* key, const Range& range) {
+        const Json* j = r.find(key);
+        if (!j) r.fail(r.fieldName(key), "missing");
+        return checked(*j, range, r.file(), r.fieldName(key));
+    };
+    c.geometry.sizeBytes = std::uint64_t(need("size_bytes", kCacheBytes));
+    c.geometry.lineBytes = std::uint32_t(need("line_bytes", kLineBytes));
+    c.geometry.ways = std::uint32_t(need("ways", kWays));
+    c.linesPerClock = need("lines_per_clock", kLinesPerClock);
+    const std::string policy = r.string("replacement", "lru");
+    if (policy == "lru")
+        c.geometry.replacement = Replacement::Lru;
+    else if (policy == "fifo")
+        c.geometry.replacement = Replacement::Fifo;
+    else
+        r.fail(r.fieldName("replacement"),
+               "expected \"lru\" or \"fifo\", found \"" + policy + "\"");
+    r.finish();
+    const CacheGeometry& g = c.geometry;
+    if (std::has_single_bit(g.lineBytes) == false)
+        r.fail(r.fieldName("line_bytes"), "must be a power of two");
+    const std::uint64_t setBytes = std::uint64_t(g.lineBytes) * g.ways;
+    if (g.sizeBytes % setBytes != 0)
+        r.fail(r.fieldName("size_bytes"), "must be a whole number of sets of line_bytes x ways = " +
+                                              std::to_string(setBytes) + " bytes");
+    return c;
+}
+
+MemoryConfig readMemory(ObjectReader r) {
+    MemoryConfig m;
+    if (const Json* j = r.find("surface_tile"))
+        m.surfaceTile = int(checked(*j, kSurfaceTile, r.file(), r.fieldName("surface_tile")));
+    if (const Json* j = r.find("fifo_depth"))
+        m.fifoDepth = int(checked(*j, kFifoDepth, r.file(), r.fieldName("fifo_depth")));
+    auto caches = r.object("caches");
+    if (!caches) r.fail(r.fieldName("caches"), "missing the caches (depth, visibility, llc)");
+    for (int c = 0; c < kCacheClients; ++c) {
+        const char* name = cacheClientName(CacheClient(c));
+        auto cache = caches->object(name);
+        if (!cache) caches->fail(caches->fieldName(name), "missing cache");
+        m.caches[std::size_t(c)] = readCache(*cache);
+        if (m.caches[std::size_t(c)].geometry.lineBytes != m.lineBytes())
+            caches->fail(caches->fieldName(std::string(name) + ".line_bytes"),
+                         "every cache must have the depth cache's line size (" +
+                             std::to_string(m.lineBytes()) + " bytes)");
+    }
+    caches->finish();
+    auto dram = r.object("dram");
+    if (!dram) r.fail(r.fieldName("dram"), "missing (bytes_per_clock, latency)");
+    const Json* bandwidth = dram->find("bytes_per_clock");
+    if (!bandwidth) dram->fail(dram->fieldName("bytes_per_clock"), "missing");
+    m.dramBytesPerClock =
+        checked(*bandwidth, kDramBytesPerClock, r.file(), dram->fieldName("bytes_per_clock"));
+    const Json* latency = dram->find("latency");
+    if (!latency) dram->fail(dram->fieldName("latency"), "missing");
+    m.dramLatency = checked(*latency, kLatency, r.file(), dram->fieldName("latency"));
+    dram->finish();
+    r.finish();
+    return m;
+}
+
+Json memoryJson(const MemoryConfig& m) {
+    Json caches = Json::object();
+    for (int c = 0; c < kCacheClients; ++c) {
+        const CacheConfig& cache = m.caches[std::size_t(c)];
+        caches[cacheClientName(CacheClient(c))] = {
+            {"size_bytes", cache.geometry.sizeBytes},
+            {"line_bytes", cache.geometry.lineBytes},
+            {"ways", cache.geometry.ways},
+            {"replacement", replacementName(cache.geometry.replacement)},
+            {"lines_per_clock", cache.linesPerClock}};
+    }
+    return {{"surface_tile", m.surfaceTile},
+            {"fifo_depth", m.fifoDepth},
+            {"caches", caches},
+            {"dram", {{"bytes_per_clock", m.dramBytesPerClock}, {"latency", m.dramLatency}}}};
+}
+
+// "memory.dram.latency" and the like: set in the section's JSON, which is then read again with
+// the file's checks; errors name `field` in `source`.
+void setMemoryParameter(HardwareConfig& c, const std::string& path, const Json& value,
+                        const std::string& source, const std::string& field) {
+    if (!c.memory)
+        throw InputError(source, field,
+                         "the hardware models no memory (its file has no \"memory\" section)");
+    Json section = memoryJson(*c.memory);
+    Json* at = &section;
+    std::size_t from = 0;
+    for (std::size_t dot; (dot = path.find('.', from)) != std::string::npos; from = dot + 1) {
+        at = &(*at)[path.substr(from, dot - from)];
+        if (!at->is_object())
+            throw InputError(source, field, "unknown hardware parameter 'memory." + path + "'");
+    }
+    const std::string key = path.substr(from);
+    if (!at->contains(key))
+        throw InputError(source, field, "unknown hardware parameter 'memory." + path + "'");
+    (*at)[key] = value;
+    try {
+        c.memory = readMemory(ObjectReader(section, "memory", source));
+    } catch (const InputError& e) {
+        // The reader names the section's own field; the caller's name for it is `field`.
+        const std::string prefix = source + ": " + e.field() + ": ";
+        const std::string what = e.what();
+        throw InputError(source, field,
+                         what.starts_with(prefix) ? what.substr(prefix.size()) : what);
+    }
+}
+
 }  // namespace
+
+const char* cacheClientName(CacheClient c) {
+    switch (c) {
+        case CacheClient::Depth:
+            return "depth";
+        case CacheClient::Visibility:
+            return "visibility";
+        case CacheClient::LastLevel:
+            return "llc";
+    }
+    return "?";
+}
+
+const char* cacheClientTitle(CacheClient c) {
+    switch (c) {
+        case CacheClient::Depth:
+            return "depth cache";
+        case CacheClient::Visibility:
+            return "visibility cache";
+        case CacheClient::LastLevel:
+            return "last-level cache";
+    }
+    return "?";
+}
 
 HardwareConfig parseHardwareConfig(std::string_view text, const std::string& path) {
     const Json json = parseJson(text, path);
@@ -84,6 +227,7 @@ HardwareConfig parseHardwareConfig(std::string_view text, const std::string& pat
         readStage(*stage, config.stages[std::size_t(s)], Stage(s));
     }
     stages->finish();
+    if (auto memory = root.object("memory")) config.memory = readMemory(*memory);
     root.finish();
     return config;
 }
@@ -109,6 +253,8 @@ void setHardwareParameter(HardwareConfig& c, const std::string& path, const Json
         c.scratchBudgetBytes = std::uint64_t(checked(value, kScratch, source, field));
         return;
     }
+    if (path.starts_with("memory."))
+        return setMemoryParameter(c, path.substr(7), value, source, field);
     const auto dot = path.find('.');
     if (dot == std::string::npos) fail("unknown hardware parameter '" + path + "'");
     const std::string stageText = path.substr(0, dot), rest = path.substr(dot + 1);

@@ -7,10 +7,12 @@
 #include <array>
 #include <cstdint>
 #include <nlohmann/json_fwd.hpp>
+#include <optional>
 #include <string>
 #include <string_view>
 
 #include "core/stage_ops.h"
+#include "pipeline/timing/cache_model.h"
 
 namespace patchsim {
 
@@ -21,10 +23,37 @@ struct StageConfig {
     std::array<double, kOpCount> throughput{};  // per unit per clock, for this stage's op kinds
 };
 
+// The caches of the memory system, each a client of the last-level cache but the LLC itself.
+enum class CacheClient : std::uint8_t { Depth, Visibility, LastLevel };
+inline constexpr int kCacheClients = 3;
+const char* cacheClientName(CacheClient c);   // its key in the hardware file: "depth", ...
+const char* cacheClientTitle(CacheClient c);  // in reports: "depth cache", ...
+
+struct CacheConfig {
+    CacheGeometry geometry;
+    double linesPerClock = 1;  // line accesses the cache serves per clock
+};
+
+// The memory system (docs/HARDWARE.md, "Memory"): per-sample surfaces in a tiled layout, a
+// depth and a visibility cache in front of a shared last-level cache, and DRAM.
+struct MemoryConfig {
+    int surfaceTile = 8;  // pixels per side of a layout block of the per-sample surfaces
+    std::array<CacheConfig, kCacheClients> caches;
+    double dramBytesPerClock = 32;
+    double dramLatency = 200;  // cycles from a patch's last memory request to its data
+    int fifoDepth = 8;         // patches waiting for the memory system
+
+    const CacheConfig& cache(CacheClient c) const { return caches[std::size_t(c)]; }
+    CacheConfig& cache(CacheClient c) { return caches[std::size_t(c)]; }
+    std::uint32_t lineBytes() const { return caches[0].geometry.lineBytes; }
+};
+
 struct HardwareConfig {
     double clockGHz = 1.0;
     std::uint64_t scratchBudgetBytes = 16 * 1024;
     std::array<StageConfig, kStageCount> stages;
+    // Absent: the compute-only model (infinite bandwidth, no memory traffic simulated).
+    std::optional<MemoryConfig> memory;
 
     const StageConfig& stage(Stage s) const { return stages[std::size_t(s)]; }
     StageConfig& stage(Stage s) { return stages[std::size_t(s)]; }
@@ -36,8 +65,10 @@ HardwareConfig readHardwareConfig(const std::string& path);
 HardwareConfig defaultHardwareConfig();  // pipeline/hw/default.json
 
 // Sets one parameter by its path ("RS.units", "RS.throughput.ray_box_tests", "RS.latency",
-// "RS.fifo_depth", "clock_ghz", "scratch_budget_bytes") to a JSON value, with the ranges the file
-// reader applies; throws InputError(source, field) if the path is unknown or the value refused.
+// "RS.fifo_depth", "clock_ghz", "scratch_budget_bytes", or a field of the memory section such as
+// "memory.dram.bytes_per_clock" or "memory.caches.depth.size_bytes") to a JSON value, with the
+// ranges the file reader applies; throws InputError(source, field) if the path is unknown or the
+// value refused.
 void setHardwareParameter(HardwareConfig& config, const std::string& path,
                           const nlohmann::json& value, const std::string& source,
                           const std::string& field);

@@ -16,62 +16,130 @@ double serviceCycles(const PatchOps& ops, const HardwareConfig& config, Stage st
     return cycles;
 }
 
-TimingReport simulateTiming(const std::vector<PatchOps>& patches, const HardwareConfig& config) {
+const char* memoryPartTitle(int part) {
+    return part < kCacheClients ? cacheClientTitle(CacheClient(part)) : "DRAM";
+}
+
+double TimingReport::bottleneckUtilisation() const {
+    if (memoryBound) return memory->utilisation[std::size_t(memoryBottleneck)];
+    return bottleneck ? stages[std::size_t(*bottleneck)].utilisation : 0.0;
+}
+
+double memoryCycles(const PatchMemory& patch, const MemoryConfig& config,
+                    std::array<double, kMemoryParts>& parts) {
+    double cycles = 0;
+    for (int c = 0; c < kCacheClients; ++c) {
+        parts[std::size_t(c)] = double(patch.lineAccesses[std::size_t(c)]) /
+                                config.caches[std::size_t(c)].linesPerClock;
+        cycles = std::max(cycles, parts[std::size_t(c)]);
+    }
+    parts[kCacheClients] = double(patch.dramBytes) / config.dramBytesPerClock;
+    return std::max(cycles, parts[kCacheClients]);
+}
+
+namespace {
+
+// The servers a patch passes through, in order: the stages, then the memory system if modelled.
+struct Servers {
+    const HardwareConfig& config;
+    const MemoryReport* memory;
+    int count() const { return kStageCount + (memory ? 1 : 0); }
+    double latency(int s) const {
+        return s < kStageCount ? config.stages[std::size_t(s)].latency : config.memory->dramLatency;
+    }
+    int fifoDepth(int s) const {
+        return s < kStageCount ? config.stages[std::size_t(s)].fifoDepth : config.memory->fifoDepth;
+    }
+};
+
+}  // namespace
+
+TimingReport simulateTiming(const std::vector<PatchOps>& patches, const HardwareConfig& config,
+                            const MemoryReport* memory) {
     TimingReport report;
     report.clockGHz = config.clockGHz;
     report.patches.resize(patches.size());
+    const Servers servers{config, config.memory && memory ? memory : nullptr};
+    StageTiming memoryServer;
+    MemoryTiming memoryTiming;
+    std::array<double, kMemoryParts> parts{};
     for (std::size_t p = 0; p < patches.size(); ++p) {
         PatchTimeline& t = report.patches[p];
-        for (int s = 0; s < kStageCount; ++s) {
-            const double arrival = s == 0 ? 0.0
-                                          : report.patches[p].delivered[std::size_t(s - 1)] +
-                                                config.stages[std::size_t(s - 1)].latency;
-            const double free = p == 0 ? 0.0 : report.patches[p - 1].delivered[std::size_t(s)];
-            t.start[std::size_t(s)] = std::max(arrival, free);
-            const double busy = serviceCycles(patches[p], config, Stage(s));
-            t.finish[std::size_t(s)] = t.start[std::size_t(s)] + busy;
-            // Deliver into the next stage's FIFO once it has room: the next stage must have
-            // taken patch p - depth.
-            double delivered = t.finish[std::size_t(s)];
-            if (s + 1 < kStageCount) {
-                const int depth = config.stages[std::size_t(s + 1)].fifoDepth;
+        for (int s = 0; s < servers.count(); ++s) {
+            const auto at = std::size_t(s);
+            const double arrival = s == 0 ? 0.0 : t.delivered[at - 1] + servers.latency(s - 1);
+            const double free = p == 0 ? 0.0 : report.patches[p - 1].delivered[at];
+            t.start[at] = std::max(arrival, free);
+            double busy = 0;
+            if (s < kStageCount) {
+                busy = serviceCycles(patches[p], config, Stage(s));
+            } else {
+                busy = memoryCycles(servers.memory->patches[p], *config.memory, parts);
+                for (int k = 0; k < kMemoryParts; ++k)
+                    memoryTiming.busy[std::size_t(k)] += parts[std::size_t(k)];
+            }
+            t.finish[at] = t.start[at] + busy;
+            // Deliver into the next server's FIFO once it has room: it must have taken patch
+            // p - depth.
+            double delivered = t.finish[at];
+            if (s + 1 < servers.count()) {
+                const int depth = servers.fifoDepth(s + 1);
                 if (p >= std::size_t(depth))
                     delivered =
-                        std::max(delivered,
-                                 report.patches[p - std::size_t(depth)].start[std::size_t(s + 1)]);
+                        std::max(delivered, report.patches[p - std::size_t(depth)].start[at + 1]);
             }
-            t.delivered[std::size_t(s)] = delivered;
-            StageTiming& st = report.stages[std::size_t(s)];
+            t.delivered[at] = delivered;
+            StageTiming& st = s < kStageCount ? report.stages[at] : memoryServer;
             st.busy += busy;
-            st.stalled += delivered - t.finish[std::size_t(s)];
-            st.starved += t.start[std::size_t(s)] - free;
+            st.stalled += delivered - t.finish[at];
+            st.starved += t.start[at] - free;
         }
         report.peakScratchBytes = std::max(report.peakScratchBytes, patches[p].hierarchyBytes);
         report.patchesOverBudget += patches[p].hierarchyBytes > config.scratchBudgetBytes;
     }
-    if (!patches.empty())
+    if (!patches.empty()) {
+        const int last = servers.count() - 1;
         report.totalCycles =
-            report.patches.back().delivered[kStageCount - 1] + config.stages.back().latency;
+            report.patches.back().delivered[std::size_t(last)] + servers.latency(last);
+    }
+    const auto share = [&](double busy) {
+        return report.totalCycles > 0 ? busy / report.totalCycles : 0.0;
+    };
     double busiest = 0;
     for (int s = 0; s < kStageCount; ++s) {
         StageTiming& st = report.stages[std::size_t(s)];
-        st.utilisation = report.totalCycles > 0 ? st.busy / report.totalCycles : 0.0;
+        st.utilisation = share(st.busy);
         if (st.busy > busiest) {
             busiest = st.busy;
             report.bottleneck = Stage(s);
         }
     }
+    if (servers.memory) {
+        memoryServer.utilisation = share(memoryServer.busy);
+        memoryTiming.server = memoryServer;
+        for (int k = 0; k < kMemoryParts; ++k) {
+            memoryTiming.utilisation[std::size_t(k)] = share(memoryTiming.busy[std::size_t(k)]);
+            if (memoryTiming.busy[std::size_t(k)] >
+                memoryTiming.busy[std::size_t(report.memoryBottleneck)])
+                report.memoryBottleneck = k;
+        }
+        memoryTiming.dramBytesPerCycle =
+            report.totalCycles > 0 ? double(servers.memory->dramBytes()) / report.totalCycles : 0.0;
+        report.memoryBound = memoryServer.busy > busiest;
+        report.memory = memoryTiming;
+    }
     return report;
 }
 
-void writeChromeTrace(const TimingReport& report, std::ostream& out) {
+void writeChromeTrace(const TimingReport& report, std::ostream& out, const MemoryReport* memory) {
     nlohmann::ordered_json events = nlohmann::ordered_json::array();
-    for (int s = 0; s < kStageCount; ++s) {
+    const int servers = kStageCount + (report.memory && memory ? 1 : 0);
+    for (int s = 0; s < servers; ++s) {
         events.push_back({{"name", "thread_name"},
                           {"ph", "M"},
                           {"pid", 0},
                           {"tid", s},
-                          {"args", {{"name", stageName(Stage(s))}}}});
+                          {"args", {{"name", s < kStageCount ? stageName(Stage(s)) : "memory"}}}});
         events.push_back({{"name", "thread_sort_index"},
                           {"ph", "M"},
                           {"pid", 0},
@@ -81,11 +149,22 @@ void writeChromeTrace(const TimingReport& report, std::ostream& out) {
     const double usPerCycle = 1.0 / (report.clockGHz * 1000.0);
     for (std::size_t p = 0; p < report.patches.size(); ++p) {
         const PatchTimeline& t = report.patches[p];
-        for (int s = 0; s < kStageCount; ++s) {
+        for (int s = 0; s < servers; ++s) {
             const double start = t.start[std::size_t(s)], finish = t.finish[std::size_t(s)];
             if (finish <= start) continue;
+            if (s == kMemoryServer) {
+                // DRAM bandwidth while the memory system serves this patch, in GB/s.
+                const double bytes = double(memory->patches[p].dramBytes);
+                const double gbPerSecond = bytes / (finish - start) * report.clockGHz;
+                for (const auto& [at, value] : {std::pair{start, gbPerSecond}, {finish, 0.0}})
+                    events.push_back({{"name", "DRAM bandwidth"},
+                                      {"ph", "C"},
+                                      {"pid", 0},
+                                      {"ts", at * usPerCycle},
+                                      {"args", {{"GB/s", value}}}});
+            }
             events.push_back({{"name", "patch " + std::to_string(p)},
-                              {"cat", stageName(Stage(s))},
+                              {"cat", s < kStageCount ? stageName(Stage(s)) : "memory"},
                               {"ph", "X"},
                               {"pid", 0},
                               {"tid", s},
@@ -113,6 +192,19 @@ void printTimingReport(const TimingReport& r, std::ostream& out) {
         std::snprintf(line, sizeof line, "  %-5s %11.0f %11.0f %11.0f  %10.1f%%\n",
                       stageName(Stage(s)), st.busy, st.stalled, st.starved, 100.0 * st.utilisation);
         out << line;
+    }
+    if (r.memory) {
+        const MemoryTiming& m = *r.memory;
+        std::snprintf(line, sizeof line, "  %-5s %11.0f %11.0f %11.0f  %10.1f%%\n", "MEM",
+                      m.server.busy, m.server.stalled, m.server.starved,
+                      100.0 * m.server.utilisation);
+        out << line;
+        for (int k = 0; k < kMemoryParts; ++k) {
+            std::snprintf(line, sizeof line, "    %-16s %11.0f busy  %10.1f%%\n",
+                          memoryPartTitle(k), m.busy[std::size_t(k)],
+                          100.0 * m.utilisation[std::size_t(k)]);
+            out << line;
+        }
     }
     std::snprintf(line, sizeof line, "  peak scratch %llu bytes, %zu patches over the budget\n",
                   static_cast<unsigned long long>(r.peakScratchBytes), r.patchesOverBudget);

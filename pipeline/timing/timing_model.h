@@ -12,6 +12,9 @@
 // stalls the stage before it. From the resulting start, finish and delivery times come the total
 // cycles, each stage's busy, stalled (finished but blocked) and starved (waiting for input)
 // cycles, utilisation, the bottleneck, and a per-patch timeline (Chrome trace-event JSON).
+// When the hardware models memory, the memory system is one more server after OM, with its own
+// FIFO (memory_model.h gives each patch's line accesses and DRAM bytes): a patch's OM cannot
+// deliver while that FIFO is full, so a busy memory system stalls the stages before it.
 
 #include <array>
 #include <cstdint>
@@ -20,6 +23,7 @@
 #include <vector>
 
 #include "pipeline/timing/hardware_config.h"
+#include "pipeline/timing/memory_model.h"
 
 namespace patchsim {
 
@@ -28,15 +32,38 @@ struct StageTiming {
     double utilisation = 0;  // busy / total
 };
 
+// Stage s's times at index s; with memory modelled, the memory system's at kStageCount.
+inline constexpr int kMemoryServer = kStageCount;
 struct PatchTimeline {
-    std::array<double, kStageCount> start{}, finish{}, delivered{};
+    std::array<double, kStageCount + 1> start{}, finish{}, delivered{};
+};
+
+// The memory system as the timing model sees it: one server after OM whose service time for a
+// patch is the longest of its parts (each cache's line accesses at its rate, DRAM's bytes at its
+// bandwidth), since they work side by side.
+inline constexpr int kMemoryParts = kCacheClients + 1;  // the caches, then DRAM
+const char* memoryPartTitle(int part);                  // "depth cache", ..., "DRAM"
+struct MemoryTiming {
+    StageTiming server;
+    std::array<double, kMemoryParts> busy{};         // cycles each part needed
+    std::array<double, kMemoryParts> utilisation{};  // busy / total
+    double dramBytesPerCycle = 0;                    // achieved over the frame
 };
 
 struct TimingReport {
     double totalCycles = 0;
     std::array<StageTiming, kStageCount> stages{};
     std::optional<Stage> bottleneck;  // the busiest stage; none when no stage did any work
-    const char* bottleneckName() const { return bottleneck ? stageName(*bottleneck) : "none"; }
+    // Set when the memory system is modelled; `memoryBound` when it is busier than every stage,
+    // and then the bottleneck is its busiest part.
+    std::optional<MemoryTiming> memory;
+    bool memoryBound = false;
+    int memoryBottleneck = 0;
+    const char* bottleneckName() const {
+        if (memoryBound) return memoryPartTitle(memoryBottleneck);
+        return bottleneck ? stageName(*bottleneck) : "none";
+    }
+    double bottleneckUtilisation() const;
     std::uint64_t peakScratchBytes = 0;
     std::size_t patchesOverBudget = 0;
     std::vector<PatchTimeline> patches;
@@ -48,11 +75,20 @@ struct TimingReport {
 // Service time of one patch at one stage.
 double serviceCycles(const PatchOps& ops, const HardwareConfig& config, Stage stage);
 
-TimingReport simulateTiming(const std::vector<PatchOps>& patches, const HardwareConfig& config);
+// With `memory` (and config.memory), each patch also passes through the memory system.
+TimingReport simulateTiming(const std::vector<PatchOps>& patches, const HardwareConfig& config,
+                            const MemoryReport* memory = nullptr);
+
+// The memory server's service time of one patch, and each part's share of it.
+double memoryCycles(const PatchMemory& patch, const MemoryConfig& config,
+                    std::array<double, kMemoryParts>& parts);
 
 // Chrome trace-event JSON (chrome://tracing, Perfetto): one track per stage, one slice per patch,
 // times in microseconds at the configured clock.
-void writeChromeTrace(const TimingReport& report, std::ostream& out);
+// With the memory system modelled (and its report given), a "memory" track and a counter
+// track of DRAM bandwidth in GB/s.
+void writeChromeTrace(const TimingReport& report, std::ostream& out,
+                      const MemoryReport* memory = nullptr);
 
 void printTimingReport(const TimingReport& report, std::ostream& out);
 

@@ -76,6 +76,7 @@ RasterOrder rasterOrder(const std::vector<std::size_t>& units,
 struct Worker {
     std::unique_ptr<TileRays> rays;  // made on the worker's first tile
     std::vector<RasterWork> work;    // per patch
+    std::unique_ptr<TileTraceWriter> trace;
 };
 
 }  // namespace
@@ -126,15 +127,22 @@ FrameRasterWork rasterizeFrame(const std::vector<MovingMesh>& meshes,
             if (!worker.rays) {
                 worker.rays = std::make_unique<TileRays>(frame);
                 worker.work.resize(meshes.size());
+                if (options.memoryTrace) {
+                    worker.trace = std::make_unique<TileTraceWriter>(*options.memoryTrace);
+                    worker.rays->trace = worker.trace.get();
+                }
             }
             TileRays& rays = *worker.rays;
             rays.load(grid.rect(tx, ty), *targets.opaque);
+            if (worker.trace) worker.trace->beginTile(tx, ty);
             VisibilityTargets mine = targets;
             mine.pool = w;
             for (std::uint32_t g : bin) {
                 const std::size_t u = raster.unit[g];
+                if (worker.trace) worker.trace->beginPass(std::uint32_t(units.firstPatch[u]));
                 rasterizer.rasterizeTile(*units.meshes[u], groups[u][raster.group[g]], tx, ty, rays,
                                          mine, worker.work[units.firstPatch[u]]);
+                if (worker.trace) worker.trace->endPass();
             }
             rays.store(*targets.opaque, targets.pixels);
         }

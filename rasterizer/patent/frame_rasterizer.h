@@ -15,6 +15,7 @@
 #include <functional>
 #include <vector>
 
+#include "core/memory_trace.h"
 #include "rasterizer/common/frame_partition.h"
 #include "rasterizer/common/moving_mesh.h"
 #include "rasterizer/common/transparent_layers.h"
@@ -35,6 +36,8 @@ struct FrameRasterOptions {
     const SampleTable* sampleTable = nullptr;
     // targets.opaque holds no hits yet (as renderScene makes it), so it need not be read.
     bool opaqueStartsEmpty = false;
+    // When the hardware models memory: each pass's z reads and visibility writes, per tile.
+    MemoryTrace* memoryTrace = nullptr;
 };
 
 // Each patch's work: building its hierarchies (every patch, whichever rows are owned) and its

@@ -110,6 +110,7 @@ class Pass {
                           ? startRays<true>(times_[start], first, last, start, tested)
                           : startRays<false>(times_[start], first, last, start, tested);
         if (n > 0) descend(start, rays_.levelList(1, 0), n, 1);
+        if (rays_.trace != nullptr) rays_.traceReads(first, last, times_[start]);
         work_.samplesTested += tested;
         work_.samplesRejectedTime += std::int64_t(rays_.count()) - tested;
         work_.raysCast += tested;

@@ -199,6 +199,7 @@ class ScreenPass {
 
     // A covered sample's hit, kept if within its ray's range (the depth range of coverSample).
     void offer(int sample, std::uint32_t tri, const ScreenHit& hit) {
+        if (rays_.trace != nullptr) rays_.trace->read(rays_.record[sample]);
         if (!(hit.depth >= near_ && hit.depth <= rays_.rayEnd[sample] * rays_.depthPerLambda()))
             return;
         accept(sample, tri, hit.depth, hit.b1, hit.b2);
@@ -215,6 +216,7 @@ class ScreenPass {
         const int n = rays_.count();
         work_.raysCast += n;
         work_.rayTriangleTests += n;
+        if (rays_.trace != nullptr) rays_.traceReads(0, n, TimeRange::shutter());
         for (int i = 0; i < n; ++i) {
             const Ray ray = rays_.ray(i);
             TriangleHit hit;

@@ -121,6 +121,10 @@ std::int64_t TileRays::commitPass(int first, int last) {
         if (!improved[b]) continue;
         visible += std::popcount(improved[b]);
         changed[b] |= improved[b];
+        if (trace != nullptr)
+            for (unsigned rest = improved[b]; rest; rest &= rest - 1)
+                trace->wrote(
+                    record[std::size_t(b) * kMaxLanes + std::size_t(std::countr_zero(rest))]);
         if (work[0] != nullptr)
             for (unsigned rest = improved[b]; rest; rest &= rest - 1)
                 ++work[std::size_t(SampleWork::Visible)]

@@ -33,6 +33,7 @@
 #include <vector>
 
 #include "core/camera.h"
+#include "core/memory_trace.h"
 #include "core/rasterizer_options.h"
 #include "core/ray.h"
 #include "core/samples.h"
@@ -177,6 +178,13 @@ class TileRays {
     bool anyParallel() const { return anyParallel_; }
     // Per batch of kMaxLanes samples: bit j, sample j of the batch got a nearer hit in this tile.
     std::uint16_t* changed;
+    // When the hardware models memory: where the passes' z reads and visibility writes are
+    // recorded (the ray kernels mark reads, commitPass the writes).
+    TileTraceWriter* trace = nullptr;
+    void traceReads(int first, int last, TimeRange times) const {
+        for (int i = first; i < last; ++i)
+            if (times.contains(time[i])) trace->read(record[i]);
+    }
     // Ends a pass over samples [first, last): the samples it improved (passImproved) are marked
     // changed, and counted as visible in the per-sample work; returns how many.
     std::int64_t commitPass(int first, int last);

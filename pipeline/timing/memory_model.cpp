@@ -1,0 +1,344 @@
+#include "pipeline/timing/memory_model.h"
+
+#include <bit>
+#include <cstdio>
+#include <nlohmann/json.hpp>
+#include <span>
+
+namespace patchsim {
+
+namespace {
+
+struct MemoryClassInfo {
+    const char* name;
+    const char* definition;
+};
+constexpr MemoryClassInfo kClassInfo[] = {
+#define PATCHSIM_MEMORY_CLASS_INFO(name, key, definition) {key, definition},
+    PATCHSIM_MEMORY_CLASSES(PATCHSIM_MEMORY_CLASS_INFO)
+#undef PATCHSIM_MEMORY_CLASS_INFO
+};
+static_assert(std::size(kClassInfo) == kMemoryClasses);
+
+constexpr std::uint64_t kSurfaceAlignment = 4096;
+
+std::uint64_t alignUp(std::uint64_t v) {
+    return (v + kSurfaceAlignment - 1) / kSurfaceAlignment * kSurfaceAlignment;
+}
+
+// The caches, DRAM and what they count, accessed a line at a time.
+class MemorySystem {
+  public:
+    MemorySystem(const MemoryConfig& config, std::uint64_t endAddress, std::size_t patchCount)
+        : line_(config.lineBytes()),
+          caches_{CacheModel(config.caches[0].geometry), CacheModel(config.caches[1].geometry),
+                  CacheModel(config.caches[2].geometry)},
+          inDram_((endAddress / line_ + 64) / 64, 0) {
+        report_.patches.resize(patchCount);
+    }
+
+    std::uint64_t lineOf(std::uint64_t address) const { return address / line_; }
+
+    // A client cache's access to `line`; consecutive accesses to one line are one access.
+    void access(CacheClient client, std::uint64_t line, bool write, std::size_t patch) {
+        std::uint64_t& last = last_[std::size_t(client)][write];
+        if (line == last) return;
+        last = line;
+        ++report_.patches[patch].lineAccesses[std::size_t(client)];
+        const CacheModel::Outcome out = caches_[std::size_t(client)].access(line, write);
+        if (out.writeback != CacheModel::kEmpty) lastLevel(out.writeback, true, patch);
+        // A miss fills the line from below, a write's too (it may cover part of the line).
+        if (!out.hit) lastLevel(line, false, patch);
+    }
+    // A pass's accesses are coalesced among themselves, not with another pass's.
+    void newPass() {
+        last_ = kNoLast;
+        lastStream_ = kNone;
+    }
+    // A write that covers whole lines (the image, written in order) goes to the LLC directly.
+    void streamWrite(std::uint64_t line, std::size_t patch) {
+        if (line == lastStream_) return;
+        lastStream_ = line;
+        lastLevel(line, true, patch);
+    }
+    // A read that bypasses the client caches (a hierarchy's spilled nodes).
+    void readLastLevel(std::uint64_t line, std::size_t patch) { lastLevel(line, false, patch); }
+    void request(MemoryClass c, std::uint64_t bytes) {
+        report_.requestedBytes[std::size_t(c)] += bytes;
+    }
+    // Every dirty line written back, the client caches' through the LLC.
+    void writeBack(std::size_t patch) {
+        for (int c = 0; c < kCacheClients - 1; ++c)
+            caches_[std::size_t(c)].flush(
+                [&](std::uint64_t line) { lastLevel(line, true, patch); });
+        caches_[kCacheClients - 1].flush([&](std::uint64_t line) { dramWrite(line, patch); });
+        newPass();
+    }
+    MemoryReport finish() {
+        for (int c = 0; c < kCacheClients; ++c)
+            report_.caches[std::size_t(c)] = caches_[std::size_t(c)].stats();
+        return std::move(report_);
+    }
+
+  private:
+    static constexpr std::uint64_t kNone = CacheModel::kEmpty;
+
+    void lastLevel(std::uint64_t line, bool write, std::size_t patch) {
+        ++report_.patches[patch].lineAccesses[std::size_t(CacheClient::LastLevel)];
+        const CacheModel::Outcome out =
+            caches_[std::size_t(CacheClient::LastLevel)].access(line, write);
+        if (out.writeback != CacheModel::kEmpty) dramWrite(out.writeback, patch);
+        // A write brings a whole line (a write-back from above, or a streamed line); a read
+        // miss fetches from DRAM, unless the line was never written there (still cleared).
+        if (!out.hit && !write && holds(line)) {
+            report_.dramReadBytes += line_;
+            report_.patches[patch].dramBytes += line_;
+        }
+    }
+    void dramWrite(std::uint64_t line, std::size_t patch) {
+        inDram_[line / 64] |= std::uint64_t(1) << (line % 64);
+        report_.dramWriteBytes += line_;
+        report_.patches[patch].dramBytes += line_;
+    }
+    bool holds(std::uint64_t line) const { return inDram_[line / 64] >> (line % 64) & 1u; }
+
+    std::uint64_t line_;
+    std::array<CacheModel, kCacheClients> caches_;
+    std::vector<std::uint64_t> inDram_;  // per line: written to DRAM this frame (else cleared)
+    using LastLines = std::array<std::array<std::uint64_t, 2>, kCacheClients>;
+    static constexpr LastLines kNoLast{{{kNone, kNone}, {kNone, kNone}, {kNone, kNone}}};
+    LastLines last_ = kNoLast;
+    std::uint64_t lastStream_ = kNone;
+    MemoryReport report_;
+};
+
+// The sample a trace bit names, in screen coordinates.
+struct TracedSample {
+    int x, y, s;
+};
+
+template <class Visit>
+void forEachBit(std::span<const std::uint64_t> mask, Visit visit) {
+    for (std::size_t w = 0; w < mask.size(); ++w)
+        for (std::uint64_t rest = mask[w]; rest; rest &= rest - 1)
+            visit(w * 64 + std::size_t(std::countr_zero(rest)));
+}
+
+// Hierarchy bytes beyond the scratch budget, per patch, each at its own address after the
+// image.
+class Spills {
+  public:
+    Spills(const std::vector<std::uint64_t>& bytes, std::uint64_t base) : bytes_(bytes) {
+        begin_.reserve(bytes.size() + 1);
+        std::uint64_t at = base;
+        for (std::uint64_t b : bytes) {
+            begin_.push_back(at);
+            at = alignUp(at + b);
+        }
+        begin_.push_back(at);
+    }
+    std::uint64_t endAddress() const { return begin_.back(); }
+    // Written once, in patch order, as the hierarchies are built.
+    void write(MemorySystem& memory) const {
+        for (std::size_t p = 0; p < bytes_.size(); ++p) {
+            if (bytes_[p] == 0) continue;
+            memory.newPass();
+            for (std::uint64_t line : lines(memory, p)) memory.streamWrite(line, p);
+            memory.request(MemoryClass::SpillWrites, bytes_[p]);
+        }
+    }
+    // Read back by one of the patch's tile passes.
+    void read(std::size_t patch, MemorySystem& memory) const {
+        if (patch >= bytes_.size() || bytes_[patch] == 0) return;
+        for (std::uint64_t line : lines(memory, patch)) memory.readLastLevel(line, patch);
+        memory.request(MemoryClass::SpillReads, bytes_[patch]);
+    }
+
+  private:
+    struct LineRange {
+        std::uint64_t first, last;
+        struct Iterator {
+            std::uint64_t line;
+            std::uint64_t operator*() const { return line; }
+            Iterator& operator++() {
+                ++line;
+                return *this;
+            }
+            bool operator!=(const Iterator& o) const { return line != o.line; }
+        };
+        Iterator begin() const { return {first}; }
+        Iterator end() const { return {last + 1}; }
+    };
+    LineRange lines(const MemorySystem& memory, std::size_t p) const {
+        return {memory.lineOf(begin_[p]), memory.lineOf(begin_[p] + bytes_[p] - 1)};
+    }
+    const std::vector<std::uint64_t>& bytes_;
+    std::vector<std::uint64_t> begin_;
+};
+
+void replayPasses(const MemoryTrace& trace, const SurfaceLayout& layout, const Spills& spills,
+                  MemorySystem& memory) {
+    const auto spp = std::size_t(trace.samplesPerPixel());
+    const auto size = std::size_t(trace.tileSize());
+    for (std::size_t t = 0; t < trace.tileCount(); ++t) {
+        const TileTrace& tile = trace.tile(t);
+        const int x0 = int(t % std::size_t(trace.tilesX())) * trace.tileSize();
+        const int y0 = int(t / std::size_t(trace.tilesX())) * trace.tileSize();
+        const auto sampleAt = [&](std::size_t bit) {
+            const std::size_t pixel = bit / spp;
+            return TracedSample{x0 + int(pixel % size), y0 + int(pixel / size), int(bit % spp)};
+        };
+        for (const TracedPass& pass : tile.passes) {
+            const std::size_t patch = pass.patch;
+            memory.newPass();
+            spills.read(patch, memory);
+            std::uint64_t reads = 0, writes = 0;
+            forEachBit(trace.readMask(tile, pass), [&](std::size_t bit) {
+                const TracedSample s = sampleAt(bit);
+                memory.access(CacheClient::Depth, memory.lineOf(layout.depthAddress(s.x, s.y, s.s)),
+                              false, patch);
+                ++reads;
+            });
+            forEachBit(trace.writeMask(tile, pass), [&](std::size_t bit) {
+                const TracedSample s = sampleAt(bit);
+                memory.access(CacheClient::Depth, memory.lineOf(layout.depthAddress(s.x, s.y, s.s)),
+                              true, patch);
+                const std::uint64_t v = layout.visibilityAddress(s.x, s.y, s.s);
+                for (std::uint64_t line = memory.lineOf(v);
+                     line <= memory.lineOf(v + kVisibilityBytes - 1); ++line)
+                    memory.access(CacheClient::Visibility, line, true, patch);
+                ++writes;
+            });
+            memory.request(MemoryClass::DepthReads, reads * kDepthBytes);
+            memory.request(MemoryClass::DepthWrites, writes * kDepthBytes);
+            memory.request(MemoryClass::VisibilityWrites, writes * kVisibilityBytes);
+        }
+    }
+}
+
+// Every sample's record read, pixel by pixel, and the image written.
+void replayResolve(const MemoryTrace& trace, const SurfaceLayout& layout, std::size_t patch,
+                   MemorySystem& memory) {
+    const int spp = trace.samplesPerPixel();
+    memory.newPass();
+    const auto lines = [&](CacheClient client, std::uint64_t begin, std::uint64_t bytes) {
+        for (std::uint64_t line = memory.lineOf(begin); line <= memory.lineOf(begin + bytes - 1);
+             ++line)
+            memory.access(client, line, false, patch);
+    };
+    for (int y = 0; y < trace.height(); ++y)
+        for (int x = 0; x < trace.width(); ++x) {
+            lines(CacheClient::Depth, layout.depthAddress(x, y, 0),
+                  std::uint64_t(spp) * kDepthBytes);
+            lines(CacheClient::Visibility, layout.visibilityAddress(x, y, 0),
+                  std::uint64_t(spp) * kVisibilityBytes);
+            memory.streamWrite(memory.lineOf(layout.imageAddress(x, y)), patch);
+        }
+    const auto pixels = std::uint64_t(trace.width()) * std::uint64_t(trace.height());
+    memory.request(MemoryClass::ResolveReads,
+                   pixels * std::uint64_t(spp) * (kDepthBytes + kVisibilityBytes));
+    memory.request(MemoryClass::ImageWrites, pixels * kImagePixelBytes);
+}
+
+}  // namespace
+
+const char* memoryClassName(MemoryClass c) {
+    return kClassInfo[std::size_t(c)].name;
+}
+const char* memoryClassDefinition(MemoryClass c) {
+    return kClassInfo[std::size_t(c)].definition;
+}
+
+SurfaceLayout::SurfaceLayout(int width, int height, int samplesPerPixel, int surfaceTile)
+    : width_(width),
+      height_(height),
+      spp_(samplesPerPixel),
+      tile_(surfaceTile),
+      blocksX_((width + surfaceTile - 1) / surfaceTile) {
+    const auto blocksY = std::uint64_t((height + surfaceTile - 1) / surfaceTile);
+    samplesPadded_ = std::uint64_t(blocksX_) * blocksY * std::uint64_t(tile_) *
+                     std::uint64_t(tile_) * std::uint64_t(spp_);
+    visibilityBase_ = alignUp(samplesPadded_ * kDepthBytes);
+    imageBase_ = alignUp(visibilityBase_ + samplesPadded_ * kVisibilityBytes);
+}
+
+std::uint64_t SurfaceLayout::sampleIndex(int x, int y, int sample) const {
+    const auto block =
+        std::uint64_t(y / tile_) * std::uint64_t(blocksX_) + std::uint64_t(x / tile_);
+    const auto inBlock = std::uint64_t(y % tile_) * std::uint64_t(tile_) + std::uint64_t(x % tile_);
+    return (block * std::uint64_t(tile_) * std::uint64_t(tile_) + inBlock) * std::uint64_t(spp_) +
+           std::uint64_t(sample);
+}
+
+std::uint64_t SurfaceLayout::endAddress() const {
+    return imageBase_ + std::uint64_t(width_) * std::uint64_t(height_) * kImagePixelBytes;
+}
+
+std::vector<std::uint64_t> hierarchySpills(const std::vector<PatchOps>& patches,
+                                           std::uint64_t scratchBudgetBytes) {
+    std::vector<std::uint64_t> spills(patches.size(), 0);
+    for (std::size_t p = 0; p < patches.size(); ++p)
+        if (patches[p].hierarchyBytes > scratchBudgetBytes)
+            spills[p] = patches[p].hierarchyBytes - scratchBudgetBytes;
+    return spills;
+}
+
+MemoryReport simulateMemory(const MemoryTrace& trace, const MemoryConfig& config,
+                            const FrameMemoryInputs& frame) {
+    const SurfaceLayout layout(trace.width(), trace.height(), trace.samplesPerPixel(),
+                               config.surfaceTile);
+    const Spills spills(frame.spillBytes, alignUp(layout.endAddress()));
+    const std::size_t patches = std::max(frame.patchCount, frame.lastPatch + 1);
+    MemorySystem memory(config, spills.endAddress(), patches);
+    spills.write(memory);
+    for (int f = 0; f < frame.frames; ++f) replayPasses(trace, layout, spills, memory);
+    replayResolve(trace, layout, frame.lastPatch, memory);
+    memory.writeBack(frame.lastPatch);
+    MemoryReport report = memory.finish();
+    report.patches.resize(frame.patchCount);
+    report.traceBytes = trace.bytes();
+    return report;
+}
+
+nlohmann::ordered_json memoryReportJson(const MemoryReport& r) {
+    nlohmann::ordered_json caches = nlohmann::ordered_json::object();
+    for (int c = 0; c < kCacheClients; ++c) {
+        const CacheStats& s = r.caches[std::size_t(c)];
+        caches[cacheClientName(CacheClient(c))] = {
+            {"reads", s.reads},          {"writes", s.writes},      {"read_hits", s.readHits},
+            {"write_hits", s.writeHits}, {"hit_rate", s.hitRate()}, {"writebacks", s.writebacks}};
+    }
+    nlohmann::ordered_json requested = nlohmann::ordered_json::object();
+    for (int c = 0; c < kMemoryClasses; ++c)
+        requested[memoryClassName(MemoryClass(c))] = r.requestedBytes[std::size_t(c)];
+    return {{"requested_bytes", requested},
+            {"caches", caches},
+            {"dram_read_bytes", r.dramReadBytes},
+            {"dram_write_bytes", r.dramWriteBytes},
+            {"trace_bytes", r.traceBytes}};
+}
+
+void printMemoryReport(const MemoryReport& r, std::ostream& out) {
+    char line[160];
+    out << "memory: requested bytes by class\n";
+    for (int c = 0; c < kMemoryClasses; ++c) {
+        std::snprintf(line, sizeof line, "  %-18s %14llu\n", memoryClassName(MemoryClass(c)),
+                      static_cast<unsigned long long>(r.requestedBytes[std::size_t(c)]));
+        out << line;
+    }
+    out << "  cache              line reads  line writes   hit rate  write-backs\n";
+    for (int c = 0; c < kCacheClients; ++c) {
+        const CacheStats& s = r.caches[std::size_t(c)];
+        std::snprintf(line, sizeof line, "  %-16s %12llu %12llu %9.1f%% %12llu\n",
+                      cacheClientTitle(CacheClient(c)), static_cast<unsigned long long>(s.reads),
+                      static_cast<unsigned long long>(s.writes), 100.0 * s.hitRate(),
+                      static_cast<unsigned long long>(s.writebacks));
+        out << line;
+    }
+    std::snprintf(line, sizeof line, "  DRAM: %llu bytes read, %llu bytes written\n",
+                  static_cast<unsigned long long>(r.dramReadBytes),
+                  static_cast<unsigned long long>(r.dramWriteBytes));
+    out << line;
+}
+
+}  // namespace patchsim

@@ -1,0 +1,126 @@
+#pragma once
+// The memory system of the modelled hardware: a frame's per-sample surface traffic, replayed
+// from the rasterizer's trace (core/memory_trace.h) through the caches of a MemoryConfig to DRAM,
+// giving measured hit rates, bytes per data class and each patch's memory work for the timing
+// model (DESIGN.md section 8, docs/HARDWARE.md "Memory").
+//
+// Representation
+// --------------
+// Three surfaces, each in a tiled layout: depth (4 bytes a sample), visibility (the rest of a
+// sample's record: patch, triangle, two barycentrics, time, lens u and v, 28 bytes) and the final
+// image (8 bytes a pixel: RGBA at 16 bits). A per-sample surface is cut into blocks of
+// `surfaceTile` x `surfaceTile` pixels, blocks row-major, pixels row-major in a block, a pixel's
+// samples consecutive; the image is row-major. Each surface starts on a 4 KiB boundary, depth
+// first.
+//
+// The order of the replay is the modelled hardware's: tiles row-major, each tile's passes in
+// patch order (a sort-middle rasterizer working one screen tile at a time, as the functional
+// rasterizer does), then the resolve (every sample's depth and visibility read, pixel by pixel,
+// and the image written), then the caches written back. A pass's z test reads its samples'
+// depth lines; a nearer hit writes the sample's depth and visibility lines. A miss fetches its
+// line from the last-level cache, and a last-level miss from DRAM, unless the line is still in
+// its cleared state (the frame's surfaces start cleared: fast clear, nothing to fetch). Dirty
+// lines evicted go one level down; the LLC's reach DRAM. Each access is charged to the patch of
+// its pass (the resolve and the final write-back to the frame's last patch), so the timing
+// model sees each patch's line accesses per cache and DRAM bytes.
+//
+// A patch whose hierarchy outgrows the on-chip scratch budget spills the excess: written once
+// through the LLC when the hierarchy is built (before the tiles, in patch order), read again
+// through the LLC by each of the patch's tile passes (all of it: an upper bound, as which nodes a
+// tile test visits is not traced). The spills lie after the image, patch after patch.
+
+#include <array>
+#include <cstdint>
+#include <nlohmann/json_fwd.hpp>
+#include <ostream>
+#include <vector>
+
+#include "core/memory_trace.h"
+#include "core/stage_ops.h"
+#include "pipeline/timing/hardware_config.h"
+
+namespace patchsim {
+
+// What each data class asked of the memory system, in bytes (before the caches).
+#define PATCHSIM_MEMORY_CLASSES(X)                                                            \
+    X(DepthReads, "depth_reads", "z-test reads of a sample's depth (4 bytes)")                \
+    X(DepthWrites, "depth_writes", "depth of a nearer hit (4 bytes)")                         \
+    X(VisibilityWrites, "visibility_writes", "the rest of its record (28 bytes)")             \
+    X(ResolveReads, "resolve_reads", "the resolve's reads of every sample's record")          \
+    X(ImageWrites, "image_writes", "the final image, 8 bytes a pixel")                        \
+    X(SpillWrites, "spill_writes", "hierarchy bytes beyond the scratch budget, written once") \
+    X(SpillReads, "spill_reads", "those bytes read again by each of the patch's tile passes")
+
+enum class MemoryClass : std::uint8_t {
+#define PATCHSIM_MEMORY_CLASS_ENUM(name, key, definition) name,
+    PATCHSIM_MEMORY_CLASSES(PATCHSIM_MEMORY_CLASS_ENUM)
+#undef PATCHSIM_MEMORY_CLASS_ENUM
+};
+inline constexpr int kMemoryClasses = 7;
+const char* memoryClassName(MemoryClass c);
+const char* memoryClassDefinition(MemoryClass c);
+
+inline constexpr std::uint32_t kDepthBytes = 4, kVisibilityBytes = 28, kImagePixelBytes = 8;
+
+// One patch's memory work: line accesses per cache and bytes moved to and from DRAM.
+struct PatchMemory {
+    std::array<std::uint64_t, kCacheClients> lineAccesses{};
+    std::uint64_t dramBytes = 0;
+};
+
+struct MemoryReport {
+    std::array<CacheStats, kCacheClients> caches{};
+    std::array<std::uint64_t, kMemoryClasses> requestedBytes{};
+    std::uint64_t dramReadBytes = 0, dramWriteBytes = 0;
+    std::vector<PatchMemory> patches;
+    std::uint64_t traceBytes = 0;
+
+    std::uint64_t dramBytes() const { return dramReadBytes + dramWriteBytes; }
+    std::uint64_t requested(MemoryClass c) const { return requestedBytes[std::size_t(c)]; }
+};
+
+// Where the per-sample surfaces and the image lie (see the essay above).
+class SurfaceLayout {
+  public:
+    SurfaceLayout(int width, int height, int samplesPerPixel, int surfaceTile);
+    std::uint64_t sampleIndex(int x, int y, int sample) const;
+    std::uint64_t depthAddress(int x, int y, int s) const {
+        return sampleIndex(x, y, s) * kDepthBytes;
+    }
+    std::uint64_t visibilityAddress(int x, int y, int s) const {
+        return visibilityBase_ + sampleIndex(x, y, s) * kVisibilityBytes;
+    }
+    std::uint64_t imageAddress(int x, int y) const {
+        return imageBase_ +
+               (std::uint64_t(y) * std::uint64_t(width_) + std::uint64_t(x)) * kImagePixelBytes;
+    }
+    std::uint64_t endAddress() const;
+
+  private:
+    int width_, height_, spp_, tile_, blocksX_;
+    std::uint64_t samplesPadded_, visibilityBase_, imageBase_;
+};
+
+// What the replay needs beside the trace: the patch count, the patch that takes the resolve and
+// the final write-back (the frame's last), and per patch the hierarchy bytes that did not fit
+// the scratch budget (empty: none spilled).
+struct FrameMemoryInputs {
+    std::size_t patchCount = 0;
+    std::size_t lastPatch = 0;
+    std::vector<std::uint64_t> spillBytes;
+    int frames = 1;  // > 1: the passes again onto the surfaces as they stand (warm caches)
+};
+
+// Per patch, its largest hierarchy's bytes beyond `scratchBudgetBytes`.
+std::vector<std::uint64_t> hierarchySpills(const std::vector<PatchOps>& patches,
+                                           std::uint64_t scratchBudgetBytes);
+
+// The frame's traffic through `config`'s caches.
+MemoryReport simulateMemory(const MemoryTrace& trace, const MemoryConfig& config,
+                            const FrameMemoryInputs& frame);
+
+// stats.json's "memory" object (docs/COUNTERS.md) and the printed report.
+nlohmann::ordered_json memoryReportJson(const MemoryReport& report);
+void printMemoryReport(const MemoryReport& report, std::ostream& out);
+
+}  // namespace patchsim

@@ -1,0 +1,214 @@
+#include "pipeline/timing/memory_model.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <fstream>
+#include <set>
+
+#include "core/counters.h"
+#include "core/scene_reader.h"
+#include "pipeline/driver/render.h"
+#include "rasterizer/patent/raster_work.h"
+#include "tests/test_paths.h"
+
+namespace patchsim {
+namespace {
+
+// A full-screen quad: one bilinear face 5 units in front of the camera, far wider than the view,
+// nothing moving and no lens, so every sample is z-tested and written exactly once. With
+// `inView` false the quad lies behind the camera: an empty frame.
+SceneDesc fullScreenQuad(int width, int height, int spp, bool inView = true) {
+    const std::string cage = test::temporaryDirectory() + "/bilinear_quad.obj";
+    std::ofstream(cage) << "v -40 -40 0\nv 40 -40 0\nv 40 40 0\nv -40 40 0\nf 1 2 3 4\n";
+    const std::string film = "{\"width\": " + std::to_string(width) +
+                             ", \"height\": " + std::to_string(height) +
+                             ", \"spp\": " + std::to_string(spp) + "}";
+    const std::string z = inView ? "-5" : "5";
+    const std::string text =
+        R"({"camera": {"position": [0, 0, 0], "look_at": [0, 0, -1], "fov_y_degrees": 60},
+            "film": )" +
+        film + R"(, "tessellation": {"partitioning": "integer", "factor": 4},
+            "objects": [{"cage": ")" +
+        cage + R"(", "open": {"translate": [0, 0, )" + z + "]}}]}";
+    return parseScene(text, "quad.json", "");
+}
+
+RenderResult renderTraced(const SceneDesc& scene, int threads = 1) {
+    RenderOptions options;
+    options.threads = threads;
+    options.memoryTrace = true;
+    CounterRegistry::instance().reset();
+    return renderScene(scene, options);
+}
+
+MemoryConfig cachesOf(std::uint64_t depthBytes, std::uint64_t llcBytes) {
+    MemoryConfig m;
+    m.cache(CacheClient::Depth).geometry = {depthBytes, 64, 4, Replacement::Lru};
+    m.cache(CacheClient::Visibility).geometry = {depthBytes, 64, 4, Replacement::Lru};
+    m.cache(CacheClient::LastLevel).geometry = {llcBytes, 64, 16, Replacement::Lru};
+    return m;
+}
+
+MemoryReport replay(const RenderResult& r, const MemoryConfig& m, int frames = 1) {
+    return simulateMemory(*r.memoryTrace, m,
+                          {r.patchOps.size(), r.patchOps.size() - 1, {}, frames});
+}
+
+TEST(SurfaceLayout, EverySampleHasItsOwnAddressAndABlockIsContiguous) {
+    const SurfaceLayout layout(20, 12, 3, 8);  // 3 x 2 blocks, the last column and row partial
+    std::set<std::uint64_t> seen;
+    for (int y = 0; y < 12; ++y)
+        for (int x = 0; x < 20; ++x)
+            for (int s = 0; s < 3; ++s) {
+                EXPECT_TRUE(seen.insert(layout.sampleIndex(x, y, s)).second);
+                EXPECT_EQ(layout.depthAddress(x, y, s), layout.sampleIndex(x, y, s) * 4);
+            }
+    // Block (1, 0) follows block (0, 0): 64 pixels of 3 samples.
+    EXPECT_EQ(layout.sampleIndex(8, 0, 0), 64u * 3);
+    EXPECT_EQ(layout.sampleIndex(1, 1, 2), (8u + 1) * 3 + 2);
+    // The surfaces do not overlap: depth, then visibility, then the image.
+    const std::uint64_t padded = 3 * 2 * 64 * 3;
+    EXPECT_GE(layout.visibilityAddress(0, 0, 0), padded * kDepthBytes);
+    EXPECT_GE(layout.imageAddress(0, 0), layout.visibilityAddress(0, 0, 0) + padded * 28);
+    EXPECT_EQ(layout.imageAddress(19, 11) + kImagePixelBytes, layout.endAddress());
+}
+
+TEST(MemoryModel, AFullScreenStaticFrameWritesEachSurfaceByTheFormula) {
+    const int w = 64, h = 48, spp = 4;
+    const RenderResult r = renderTraced(fullScreenQuad(w, h, spp));
+    ASSERT_TRUE(r.memoryTrace);
+    const std::uint64_t samples = std::uint64_t(w) * h * spp, pixels = std::uint64_t(w) * h;
+    // Every sample z-tested and written exactly once (one face in front of each).
+    EXPECT_EQ(r.memoryTrace->samplesRead(), samples);
+    EXPECT_EQ(r.memoryTrace->samplesWritten(), samples);
+    // An LLC that holds every surface: nothing reaches DRAM before the final write-back, which
+    // writes each surface's lines once; nothing is ever read from DRAM (the surfaces start
+    // cleared).
+    const MemoryReport m = replay(r, cachesOf(4096, 4u << 20));
+    EXPECT_EQ(m.requested(MemoryClass::DepthReads), samples * 4);
+    EXPECT_EQ(m.requested(MemoryClass::DepthWrites), samples * 4);
+    EXPECT_EQ(m.requested(MemoryClass::VisibilityWrites), samples * 28);
+    EXPECT_EQ(m.requested(MemoryClass::ResolveReads), samples * 32);
+    EXPECT_EQ(m.requested(MemoryClass::ImageWrites), pixels * 8);
+    EXPECT_EQ(m.dramReadBytes, 0u);
+    EXPECT_EQ(m.dramWriteBytes, samples * 4 + samples * 28 + pixels * 8);
+    // With a small LLC, lines leave before the resolve, which fetches them again: each line is
+    // still dirtied once and written once, and at most the two surfaces come back.
+    const MemoryReport small = replay(r, cachesOf(4096, 16384));
+    EXPECT_EQ(small.dramWriteBytes, m.dramWriteBytes);
+    EXPECT_GT(small.dramReadBytes, 0u);
+    EXPECT_LE(small.dramReadBytes, samples * 32);
+}
+
+TEST(MemoryModel, ASecondIdenticalFrameHitsOnEveryReadWhenTheCachesHoldTheFrame) {
+    const RenderResult r = renderTraced(fullScreenQuad(32, 24, 4));
+    const MemoryConfig big = cachesOf(1u << 20, 4u << 20);  // more than the 12 KiB of depth
+    const MemoryReport one = replay(r, big, 1), two = replay(r, big, 2);
+    const CacheStats& a = one.caches[std::size_t(CacheClient::Depth)];
+    const CacheStats& b = two.caches[std::size_t(CacheClient::Depth)];
+    const std::uint64_t secondReads = b.reads - a.reads, secondHits = b.readHits - a.readHits;
+    EXPECT_GT(secondReads, 0u);
+    EXPECT_EQ(secondHits, secondReads);
+    EXPECT_EQ(b.writeHits - a.writeHits, b.writes - a.writes);
+}
+
+TEST(MemoryModel, AnEmptyFrameMovesNoSurfaceBytesOnlyTheImage) {
+    const RenderResult r = renderTraced(fullScreenQuad(32, 24, 4, false));
+    ASSERT_TRUE(r.memoryTrace);
+    EXPECT_EQ(r.memoryTrace->samplesRead(), 0u);
+    if (r.patchOps.empty()) GTEST_SKIP() << "no patch left to charge";
+    const MemoryReport m = replay(r, cachesOf(4096, 16384));
+    EXPECT_EQ(m.requested(MemoryClass::DepthWrites) + m.requested(MemoryClass::DepthReads), 0u);
+    EXPECT_EQ(m.dramReadBytes, 0u);  // the resolve reads cleared lines: nothing to fetch
+    EXPECT_EQ(m.dramWriteBytes, 32u * 24 * 8);
+}
+
+TEST(MemoryModel, TheTraceIsTheRaysTestsAndTheVisibilitySamplesOnAnyThreadCount) {
+    SceneDesc scene = defaultScene();
+    scene.film.width = 96;
+    scene.film.height = 64;
+    const RenderResult one = renderTraced(scene, 1);
+    const CounterValues counts = CounterRegistry::instance().snapshot();
+    const RasterCounters& c = rasterCounters();
+    EXPECT_EQ(std::int64_t(one.memoryTrace->samplesRead()), counts[c.samplesTested]);
+    EXPECT_EQ(std::int64_t(one.memoryTrace->samplesWritten()), counts[c.visibilitySamples]);
+    const RenderResult two = renderTraced(scene, 2);
+    const MemoryConfig m = cachesOf(16384, 65536);
+    const MemoryReport a = replay(one, m), b = replay(two, m);
+    EXPECT_EQ(a.dramReadBytes, b.dramReadBytes);
+    EXPECT_EQ(a.dramWriteBytes, b.dramWriteBytes);
+    for (int k = 0; k < kCacheClients; ++k) {
+        EXPECT_EQ(a.caches[std::size_t(k)].hits(), b.caches[std::size_t(k)].hits());
+        EXPECT_EQ(a.caches[std::size_t(k)].writebacks, b.caches[std::size_t(k)].writebacks);
+    }
+    for (std::size_t p = 0; p < a.patches.size(); ++p) {
+        EXPECT_EQ(a.patches[p].dramBytes, b.patches[p].dramBytes) << "patch " << p;
+        EXPECT_EQ(a.patches[p].lineAccesses, b.patches[p].lineAccesses) << "patch " << p;
+    }
+}
+
+// A hierarchy larger than the scratch budget spills: its excess is written once and read by each
+// tile pass of its patch, through the LLC; with an LLC too small to keep it, DRAM sees it.
+TEST(MemoryModel, AHierarchyOverTheScratchBudgetSpillsAndIsCharged) {
+    SceneDesc scene = defaultScene();
+    scene.film.width = 96;
+    scene.film.height = 64;
+    const RenderResult r = renderTraced(scene);
+    const MemoryConfig m = cachesOf(4096, 16384);
+    const std::vector<std::uint64_t> none = hierarchySpills(r.patchOps, 1u << 30);
+    EXPECT_EQ(std::count(none.begin(), none.end(), 0u), std::ptrdiff_t(none.size()));
+    const std::vector<std::uint64_t> spills = hierarchySpills(r.patchOps, 256);
+    std::uint64_t spilled = 0;
+    for (std::size_t p = 0; p < spills.size(); ++p) {
+        EXPECT_EQ(spills[p],
+                  r.patchOps[p].hierarchyBytes > 256 ? r.patchOps[p].hierarchyBytes - 256 : 0);
+        spilled += spills[p];
+    }
+    ASSERT_GT(spilled, 0u);
+    const std::size_t last = r.patchOps.size() - 1;
+    const MemoryReport fits = simulateMemory(*r.memoryTrace, m, {r.patchOps.size(), last, none});
+    const MemoryReport spills256 =
+        simulateMemory(*r.memoryTrace, m, {r.patchOps.size(), last, spills});
+    EXPECT_EQ(fits.requested(MemoryClass::SpillWrites), 0u);
+    EXPECT_EQ(spills256.requested(MemoryClass::SpillWrites), spilled);
+    EXPECT_GT(spills256.requested(MemoryClass::SpillReads), spilled);  // patches cover tiles
+    EXPECT_GT(spills256.dramBytes(), fits.dramBytes());
+    for (int c = 0; c < 5; ++c)  // the surfaces' own traffic is unchanged
+        EXPECT_EQ(spills256.requestedBytes[std::size_t(c)], fits.requestedBytes[std::size_t(c)]);
+}
+
+// The timing model with the memory system: a frame that streams through the caches is
+// bandwidth-bound and runs at the configured DRAM bandwidth; halving it about doubles the
+// frame; a compute-bound frame barely moves.
+TEST(MemoryModel, ABandwidthBoundFrameRunsAtTheConfiguredBandwidth) {
+    SceneDesc scene = defaultScene();
+    scene.film.width = 96;
+    scene.film.height = 64;
+    const RenderResult r = renderTraced(scene);
+    HardwareConfig hw = defaultHardwareConfig();
+    hw.memory = cachesOf(1024, 4096);  // almost nothing stays on chip
+    hw.memory->dramBytesPerClock = 0.25;
+    const MemoryReport m = replay(r, *hw.memory);
+    const TimingReport slow = simulateTiming(r.patchOps, hw, &m);
+    ASSERT_TRUE(slow.memory);
+    EXPECT_TRUE(slow.memoryBound);
+    EXPECT_STREQ(slow.bottleneckName(), "DRAM");
+    EXPECT_GE(slow.memory->dramBytesPerCycle, 0.95 * 0.25);
+    hw.memory->dramBytesPerClock = 0.125;
+    const TimingReport slower = simulateTiming(r.patchOps, hw, &m);
+    EXPECT_NEAR(slower.totalCycles / slow.totalCycles, 2.0, 0.05);
+
+    hw.memory->dramBytesPerClock = 4096;  // the rasterizer sets the pace
+    const double fast = simulateTiming(r.patchOps, hw, &m).totalCycles;
+    hw.memory->dramBytesPerClock = 2048;
+    const TimingReport halved = simulateTiming(r.patchOps, hw, &m);
+    EXPECT_FALSE(halved.memoryBound);
+    EXPECT_LT(halved.totalCycles / fast, 1.01);
+    // Without a memory section the model is the compute-only one.
+    HardwareConfig computeOnly = defaultHardwareConfig();
+    EXPECT_FALSE(simulateTiming(r.patchOps, computeOnly, &m).memory);
+}
+
+}  // namespace
+}  // namespace patchsim
