@@ -1,84 +1,87 @@
 #include "core/memory_trace.h"
 
-#include <bit>
+#include <algorithm>
 
 namespace patchsim {
 
-MemoryTrace::MemoryTrace(int width, int height, int tileSize, int samplesPerPixel)
-    : width_(width),
-      height_(height),
-      tileSize_(tileSize),
-      spp_(samplesPerPixel),
-      tilesX_((width + tileSize - 1) / tileSize),
-      tilesY_((height + tileSize - 1) / tileSize),
-      words_((std::size_t(tileSize) * std::size_t(tileSize) * std::size_t(samplesPerPixel) + 63) /
-             64),
-      tiles_(std::size_t(tilesX_) * std::size_t(tilesY_)) {}
-
-namespace {
-
-std::uint64_t bitsSet(std::span<const std::uint64_t> mask) {
-    std::uint64_t n = 0;
-    for (std::uint64_t w : mask) n += std::uint64_t(std::popcount(w));
-    return n;
+MemoryTrace MemoryTrace::tiles(int width, int height, int tileSize, int samplesPerPixel) {
+    MemoryTrace trace(width, height, samplesPerPixel);
+    for (int y = 0; y < height; y += tileSize)
+        for (int x = 0; x < width; x += tileSize) trace.addRegion(x, y, tileSize);
+    return trace;
 }
 
-}  // namespace
+MemoryTrace MemoryTrace::bands(int width, int height, int bands, int samplesPerPixel) {
+    MemoryTrace trace(width, height, samplesPerPixel);
+    for (int b = 0; b < bands; ++b) trace.addRegion(0, b * height / bands, width);
+    return trace;
+}
+
+std::span<const std::uint32_t> MemoryTrace::reads(const RegionTrace& r, std::size_t pass) const {
+    const std::size_t end =
+        pass + 1 < r.passes.size() ? r.passes[pass + 1].readBegin : r.reads.size();
+    return {r.reads.data() + r.passes[pass].readBegin, end - r.passes[pass].readBegin};
+}
+
+std::span<const std::uint32_t> MemoryTrace::writes(const RegionTrace& r, std::size_t pass) const {
+    const std::size_t end =
+        pass + 1 < r.passes.size() ? r.passes[pass + 1].writeBegin : r.writes.size();
+    return {r.writes.data() + r.passes[pass].writeBegin, end - r.passes[pass].writeBegin};
+}
 
 std::uint64_t MemoryTrace::samplesRead() const {
     std::uint64_t n = 0;
-    for (const TileTrace& t : tiles_)
-        for (const TracedPass& p : t.passes) n += bitsSet(readMask(t, p));
+    for (const RegionTrace& r : regions_) n += r.reads.size();
     return n;
 }
 
 std::uint64_t MemoryTrace::samplesWritten() const {
     std::uint64_t n = 0;
-    for (const TileTrace& t : tiles_)
-        for (const TracedPass& p : t.passes) n += bitsSet(writeMask(t, p));
+    for (const RegionTrace& r : regions_) n += r.writes.size();
     return n;
 }
 
 std::uint64_t MemoryTrace::bytes() const {
     std::uint64_t n = 0;
-    for (const TileTrace& t : tiles_)
-        n += t.passes.size() * sizeof(TracedPass) + t.masks.size() * sizeof(std::uint64_t);
+    for (const RegionTrace& r : regions_)
+        n += r.passes.size() * sizeof(TracedPass) +
+             (r.reads.size() + r.writes.size()) * sizeof(std::uint32_t);
     return n;
 }
 
-void TileTraceWriter::beginTile(int tileX, int tileY) {
-    tile_ = &trace_->tile(std::size_t(tileY) * std::size_t(trace_->tilesX()) + std::size_t(tileX));
-    tile_->passes.clear();
-    tile_->masks.clear();
-    x0_ = tileX * trace_->tileSize();
-    y0_ = tileY * trace_->tileSize();
+void RegionTraceWriter::beginRegion(std::size_t index) {
+    region_ = &trace_->region(index);
+    region_->passes.clear();
+    region_->reads.clear();
+    region_->writes.clear();
 }
 
-void TileTraceWriter::beginPass(std::uint32_t patch) {
-    const auto offset = std::uint32_t(tile_->masks.size());
-    tile_->passes.push_back({patch, offset});
-    tile_->masks.resize(tile_->masks.size() + 2 * trace_->wordsPerMask(), 0);
-    open_ = true;
+void RegionTraceWriter::beginPass(std::uint32_t patch) {
+    region_->passes.push_back(
+        {patch, std::uint32_t(region_->reads.size()), std::uint32_t(region_->writes.size())});
 }
 
-void TileTraceWriter::set(std::size_t bufferIndex, std::size_t maskWord) {
-    if (!open_) return;
+void RegionTraceWriter::endPass() {
+    const TracedPass pass = region_->passes.back();
+    const auto sortUnique = [](std::vector<std::uint32_t>& pool, std::uint32_t begin) {
+        const auto first = pool.begin() + std::ptrdiff_t(begin);
+        std::sort(first, pool.end());
+        pool.erase(std::unique(first, pool.end()), pool.end());
+    };
+    sortUnique(region_->reads, pass.readBegin);
+    sortUnique(region_->writes, pass.writeBegin);
+    if (keepEmpty_ || region_->reads.size() > pass.readBegin) return;
+    region_->writes.resize(pass.writeBegin);
+    region_->passes.pop_back();
+}
+
+std::uint32_t RegionTraceWriter::local(std::size_t bufferIndex) const {
     const auto spp = std::size_t(trace_->samplesPerPixel());
     const std::size_t pixel = bufferIndex / spp, sample = bufferIndex % spp;
     const auto width = std::size_t(trace_->width());
-    const std::size_t x = pixel % width - std::size_t(x0_), y = pixel / width - std::size_t(y0_);
-    const std::size_t bit = (y * std::size_t(trace_->tileSize()) + x) * spp + sample;
-    tile_->masks[tile_->passes.back().maskOffset + maskWord + bit / 64] |= std::uint64_t(1)
-                                                                           << (bit % 64);
-}
-
-void TileTraceWriter::endPass() {
-    if (!open_) return;
-    open_ = false;
-    const TracedPass& pass = tile_->passes.back();
-    if (bitsSet(trace_->readMask(*tile_, pass)) != 0) return;
-    tile_->masks.resize(pass.maskOffset);
-    tile_->passes.pop_back();
+    const std::size_t x = pixel % width - std::size_t(region_->x0);
+    const std::size_t y = pixel / width - std::size_t(region_->y0);
+    return std::uint32_t((y * std::size_t(region_->stride) + x) * spp + sample);
 }
 
 }  // namespace patchsim

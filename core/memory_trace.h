@@ -5,18 +5,21 @@
 //
 // Representation
 // --------------
-// Per screen tile (row-major, tiles of `tileSize` pixels), the passes that touched it in the
-// order they ran: the tile's groups in patch order. A pass is one group on one tile. It names
-// the patch its work is charged to and two bit masks over the tile's samples: the samples whose
-// depth it read for the z test, and the samples whose visibility it wrote (a nearer hit). A
-// sample's bit is (pixel in tile) x spp + sample index, pixels row-major in the tile with a
-// stride of `tileSize` (an edge tile's missing pixels are zero bits). A tile's masks lie in one
-// pool, `wordsPerMask()` 64-bit words each, a pass's read mask at `maskOffset` and its write
-// mask right after. A pass that read no sample is not kept.
+// The frame is cut into regions, each worked on by one worker from start to end: the patch
+// method's screen tiles (row-major), or the bounding methods' bands of rows (top to bottom). A
+// region keeps its passes in the order they ran: the patch method's groups on the tile in patch
+// order, the bounding methods' triangles on the band in patch order. A pass names the patch its
+// work is charged to and two lists of the region's samples: those whose depth it read for the z
+// test, and those whose visibility it wrote (a nearer hit), each sorted and without repeats. A
+// sample's number in its region is ((y - y0) * stride + (x - x0)) * spp + s, where (x0, y0) is
+// the region's corner and `stride` its width in pixels. A region's lists lie in two pools, a pass
+// naming where its runs begin; a run ends where the next pass's begins. A pass that read no
+// sample is kept only in a trace of tiles: the patch method's tile test reads the group's
+// hierarchy whether or not a sample is then tested (a spilled hierarchy's traffic).
 //
 // The trace holds no addresses: the surface layout is the memory model's, so one trace serves
-// every layout and cache size a hardware file or an `explore` grid describes. Its size is two
-// masks per (group, tile) pass that z-tested a sample: 256 bytes for 8x8 tiles at 16 spp.
+// every layout and cache size a hardware file or an `explore` grid describes. It takes 4 bytes
+// per sample read or written by a pass, and 12 per pass.
 
 #include <cstddef>
 #include <cstdint>
@@ -27,36 +30,33 @@ namespace patchsim {
 
 struct TracedPass {
     std::uint32_t patch = 0;       // the patch the pass's work is charged to
-    std::uint32_t maskOffset = 0;  // into TileTrace::masks: the read mask, then the write mask
+    std::uint32_t readBegin = 0;   // into RegionTrace::reads
+    std::uint32_t writeBegin = 0;  // into RegionTrace::writes
 };
 
-struct TileTrace {
+struct RegionTrace {
+    int x0 = 0, y0 = 0, stride = 0;  // corner and width in pixels
     std::vector<TracedPass> passes;
-    std::vector<std::uint64_t> masks;
+    std::vector<std::uint32_t> reads, writes;
 };
 
 class MemoryTrace {
   public:
-    MemoryTrace(int width, int height, int tileSize, int samplesPerPixel);
+    // Regions of `tileSize` x `tileSize` pixels, row-major.
+    static MemoryTrace tiles(int width, int height, int tileSize, int samplesPerPixel);
+    // `bands` bands of whole rows, band b the rows [b H / bands, (b + 1) H / bands).
+    static MemoryTrace bands(int width, int height, int bands, int samplesPerPixel);
 
     int width() const { return width_; }
     int height() const { return height_; }
-    int tileSize() const { return tileSize_; }
     int samplesPerPixel() const { return spp_; }
-    int tilesX() const { return tilesX_; }
-    int tilesY() const { return tilesY_; }
-    std::size_t wordsPerMask() const { return words_; }
 
-    TileTrace& tile(std::size_t index) { return tiles_[index]; }
-    const TileTrace& tile(std::size_t index) const { return tiles_[index]; }
-    std::size_t tileCount() const { return tiles_.size(); }
+    std::size_t regionCount() const { return regions_.size(); }
+    RegionTrace& region(std::size_t index) { return regions_[index]; }
+    const RegionTrace& region(std::size_t index) const { return regions_[index]; }
 
-    std::span<const std::uint64_t> readMask(const TileTrace& t, const TracedPass& p) const {
-        return {t.masks.data() + p.maskOffset, words_};
-    }
-    std::span<const std::uint64_t> writeMask(const TileTrace& t, const TracedPass& p) const {
-        return {t.masks.data() + p.maskOffset + words_, words_};
-    }
+    std::span<const std::uint32_t> reads(const RegionTrace& r, std::size_t pass) const;
+    std::span<const std::uint32_t> writes(const RegionTrace& r, std::size_t pass) const;
 
     // Sums over every pass, for tests and reports.
     std::uint64_t samplesRead() const;
@@ -64,31 +64,40 @@ class MemoryTrace {
     std::uint64_t bytes() const;  // what the trace holds
 
   private:
-    int width_, height_, tileSize_, spp_, tilesX_, tilesY_;
-    std::size_t words_;
-    std::vector<TileTrace> tiles_;
+    MemoryTrace(int width, int height, int samplesPerPixel)
+        : width_(width), height_(height), spp_(samplesPerPixel) {}
+    void addRegion(int x0, int y0, int stride) {
+        RegionTrace& r = regions_.emplace_back();
+        r.x0 = x0;
+        r.y0 = y0;
+        r.stride = stride;
+    }
+    int width_, height_, spp_;
+    std::vector<RegionTrace> regions_;
 };
 
-// Records one tile's passes into its TileTrace (one worker per tile, so no locking). The
-// rasterizer names each sample by its visibility-buffer index.
-class TileTraceWriter {
+// Records one region's passes (one worker per region, so no locking). The rasterizer names each
+// sample by its visibility-buffer index (pixel-major: (y * width + x) * spp + s).
+class RegionTraceWriter {
   public:
-    explicit TileTraceWriter(MemoryTrace& trace) : trace_(&trace) {}
+    explicit RegionTraceWriter(MemoryTrace& trace) : trace_(&trace) {}
+    // Keep passes that read no sample (MemoryTrace::tiles).
+    void keepEmptyPasses() { keepEmpty_ = true; }
 
-    void beginTile(int tileX, int tileY);
+    void beginRegion(std::size_t index);
     void beginPass(std::uint32_t patch);
-    void read(std::size_t bufferIndex) { set(bufferIndex, 0); }
-    void wrote(std::size_t bufferIndex) { set(bufferIndex, trace_->wordsPerMask()); }
-    // Keeps the pass if it read a sample.
+    void read(std::size_t bufferIndex) { region_->reads.push_back(local(bufferIndex)); }
+    void wrote(std::size_t bufferIndex) { region_->writes.push_back(local(bufferIndex)); }
+    // Sorts the pass's lists and drops repeats; keeps the pass if it read a sample (or always,
+    // with keepEmptyPasses).
     void endPass();
 
   private:
-    void set(std::size_t bufferIndex, std::size_t maskWord);
+    std::uint32_t local(std::size_t bufferIndex) const;
 
     MemoryTrace* trace_;
-    TileTrace* tile_ = nullptr;
-    int x0_ = 0, y0_ = 0;
-    bool open_ = false;
+    RegionTrace* region_ = nullptr;
+    bool keepEmpty_ = false;
 };
 
 }  // namespace patchsim

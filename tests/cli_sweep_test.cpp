@@ -57,6 +57,21 @@ std::vector<std::string> csvColumn(const std::string& csv, int column) {
     return values;
 }
 
+// With the memory system modelled, every row is charged its own traffic: the CSV's last column,
+// DRAM bytes, is filled for each method.
+TEST(CliSweep, WithMemoryModelledEveryRowHasItsDramBytes) {
+    const std::string dir = freshFolder("memory");
+    const CommandResult r =
+        run("sweep " + smallScene("memory.json") +
+            " --methods patch,triangle-bbox,interval --spp 1 --repeats 1 --no-progress --hw " +
+            sourcePath("pipeline/hw/memory.json") + " -o " + dir);
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    const std::string csv = readFile(dir + "/results.csv");
+    EXPECT_NE(csv.find(",front,dram_bytes\n"), std::string::npos) << csv;
+    EXPECT_EQ(csvColumn(csv, 1), (std::vector<std::string>{"patch", "triangle-bbox", "interval"}));
+    for (const std::string& bytes : csvColumn(csv, 16)) EXPECT_GT(std::stod(bytes), 0) << csv;
+}
+
 TEST(CliSweep, ScenesOfTheSameNameGetTheirOwnRuns) {
     const std::string tmp = patchsim::test::temporaryDirectory();
     fs::create_directories(tmp + "/a");

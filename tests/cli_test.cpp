@@ -774,7 +774,7 @@ TEST(Cli, RenderWithHardwareConfigAndTrace) {
 
 // The memory system modelled (pipeline/hw/memory.json): the report and stats.json carry the
 // caches and DRAM, the trace a memory track and DRAM bandwidth; a method that records no traffic
-// says so; sweep refuses to charge one method alone.
+// says so; sweep refuses to charge some of its methods only.
 TEST(Cli, RenderWithTheMemorySystemModelled) {
     const std::string dir = patchsim::test::temporaryDirectory() + "/memory";
     const std::string hw = sourcePath("pipeline/hw/memory.json");
@@ -795,18 +795,19 @@ TEST(Cli, RenderWithTheMemorySystemModelled) {
     EXPECT_NE(trace.find("\"DRAM bandwidth\""), std::string::npos);
     EXPECT_NE(trace.find("\"name\":\"memory\""), std::string::npos);
 
-    const CommandResult bbox =
-        run("render -q --no-progress --method triangle-bbox --width 96 --height 64 " +
-            sourcePath("scenes/static.json") + " -o " + dir + "/bbox --hw " + hw);
-    ASSERT_EQ(bbox.exitCode, 0) << bbox.output;
-    EXPECT_NE(bbox.output.find("memory: not modelled for the triangle-bbox method"),
+    const CommandResult interleaved =
+        run("render -q --no-progress --method interleaved --width 96 --height 64 " +
+            sourcePath("scenes/static.json") + " -o " + dir + "/interleaved --hw " + hw);
+    ASSERT_EQ(interleaved.exitCode, 0) << interleaved.output;
+    EXPECT_NE(interleaved.output.find("memory: not modelled for the interleaved method"),
               std::string::npos)
-        << bbox.output;
+        << interleaved.output;
 
-    const CommandResult sweep =
-        run("sweep --methods patch --spp 1 --no-progress -o " + dir + "/sweep --hw " + hw);
+    const CommandResult sweep = run("sweep --methods patch,interleaved --spp 1 --no-progress -o " +
+                                    dir + "/sweep --hw " + hw);
     EXPECT_EQ(sweep.exitCode, 2) << sweep.output;
-    EXPECT_NE(sweep.output.find("memory.json: memory: sweep compares every method"),
+    EXPECT_NE(sweep.output.find("memory.json: memory: sweep compares its methods on modelled "
+                                "cycles, and interleaved record no memory traffic yet"),
               std::string::npos)
         << sweep.output;
     EXPECT_FALSE(fs::exists(dir + "/sweep"));

@@ -66,8 +66,6 @@ TEST(Explore, GridCrossProductAndRows) {
     }
 }
 
-// The patent's bounds spaces and the patch merge are grid axes like any rasterizer option, and
-// every point of them renders.
 // A grid over the memory system's fields: each point replays the frame's traffic through its own
 // caches and DRAM (the render is done once), and the CSV carries the DRAM bytes.
 TEST(Explore, MemoryFieldsAreHardwareAxes) {
@@ -104,6 +102,44 @@ TEST(Explore, MemoryFieldsAreHardwareAxes) {
     }
 }
 
+// A grid point's memory fields are set together and checked as a whole, against the job's file:
+// a cache's size and ways that are only right together pass, the line size of every cache is one
+// axis, and a point that is wrong is refused before any render, named.
+TEST(Explore, AGridPointsMemoryFieldsAreCheckedTogether) {
+    const HardwareConfig memory = readHardwareConfig(test::sourcePath("pipeline/hw/memory.json"));
+    const ExploreGrid together = parseExploreGrid(
+        R"({"hardware": {"memory.caches.llc.size_bytes": [786432], "memory.caches.llc.ways": [24],
+                         "memory.line_bytes": [64, 128]}})",
+        "grid.json");
+    EXPECT_NO_THROW(checkGridHardware(together, memory));
+    const ExploreGrid wrong = parseExploreGrid(
+        R"({"hardware": {"memory.caches.llc.size_bytes": [524288, 3072],
+                         "memory.caches.llc.ways": [16, 64]}})",
+        "grid.json");
+    try {
+        checkGridHardware(wrong, memory);
+        ADD_FAILURE() << "a point with 3072 bytes of 64 ways of 64 bytes accepted";
+    } catch (const InputError& e) {
+        const std::string what = e.what();
+        EXPECT_NE(what.find("grid.json: hardware.memory.caches.llc."), std::string::npos) << what;
+        EXPECT_NE(what.find("(at the grid point memory.caches.llc.size_bytes = 3072"),
+                  std::string::npos)
+            << what;
+    }
+    for (const char* grid : {R"({"hardware": {"memory.caches.llc": [{"ways": 2}]}})",
+                             R"({"hardware": {"memory.dram": [5]}})"}) {
+        try {
+            checkGridHardware(parseExploreGrid(grid, "grid.json"), memory);
+            ADD_FAILURE() << grid << " accepted";
+        } catch (const InputError& e) {
+            EXPECT_NE(std::string(e.what()).find("grid.json: hardware.memory."), std::string::npos)
+                << e.what();
+        }
+    }
+}
+
+// The patent's bounds spaces and the patch merge are grid axes like any rasterizer option, and
+// every point of them renders.
 TEST(Explore, BoundsSpacesAndMergingAreGridAxes) {
     const ExploreGrid grid = parseExploreGrid(
         R"({"rasterizer": {"bounds_space": ["3d", "2dh", "2d"], "merge_triangles_below": [0, 64]},

@@ -156,7 +156,9 @@ TEST(HardwareConfig, BadMemoryFieldsAreRefusedByName) {
         {R"({"dram": {"bytes_per_clock": -1}})", "memory.dram.bytes_per_clock"},
         {R"({"dram": {"latency": null}})", "memory.dram.latency: missing"},
         {R"({"surface_tile": 0})", "memory.surface_tile"},
-        {R"({"banks": 4})", "memory.banks: unknown key"}};
+        {R"({"banks": 4})", "memory.banks: unknown key"},
+        {R"({"caches": {"llc": {"size_bytes": 4294967296}}})",
+         "memory.caches.llc.size_bytes: at most 16777216 lines"}};
     for (const auto& [edit, expected] : cases)
         EXPECT_NE(memoryErrorOf(edit).find(expected), std::string::npos)
             << edit << " -> " << memoryErrorOf(edit);

@@ -9,6 +9,7 @@
 #include "core/counters.h"
 #include "core/scene_reader.h"
 #include "pipeline/driver/render.h"
+#include "rasterizer/baselines/bounding_rasterizer.h"
 #include "rasterizer/patent/raster_work.h"
 #include "tests/test_paths.h"
 
@@ -34,8 +35,9 @@ SceneDesc fullScreenQuad(int width, int height, int spp, bool inView = true) {
     return parseScene(text, "quad.json", "");
 }
 
-RenderResult renderTraced(const SceneDesc& scene, int threads = 1) {
+RenderResult renderTraced(const SceneDesc& scene, int threads = 1, const char* method = "patch") {
     RenderOptions options;
+    options.method = &methodNamed(method);
     options.threads = threads;
     options.memoryTrace = true;
     CounterRegistry::instance().reset();
@@ -64,6 +66,9 @@ TEST(SurfaceLayout, EverySampleHasItsOwnAddressAndABlockIsContiguous) {
                 EXPECT_TRUE(seen.insert(layout.sampleIndex(x, y, s)).second);
                 EXPECT_EQ(layout.depthAddress(x, y, s), layout.sampleIndex(x, y, s) * 4);
             }
+    // Blocks of one pixel are the plain pixel-major order.
+    const SurfaceLayout rows(20, 12, 3, 1);
+    EXPECT_EQ(rows.sampleIndex(7, 5, 2), (5u * 20 + 7) * 3 + 2);
     // Block (1, 0) follows block (0, 0): 64 pixels of 3 samples.
     EXPECT_EQ(layout.sampleIndex(8, 0, 0), 64u * 3);
     EXPECT_EQ(layout.sampleIndex(1, 1, 2), (8u + 1) * 3 + 2);
@@ -93,12 +98,75 @@ TEST(MemoryModel, AFullScreenStaticFrameWritesEachSurfaceByTheFormula) {
     EXPECT_EQ(m.requested(MemoryClass::ImageWrites), pixels * 8);
     EXPECT_EQ(m.dramReadBytes, 0u);
     EXPECT_EQ(m.dramWriteBytes, samples * 4 + samples * 28 + pixels * 8);
+    // Line by line: a 64-byte line holds 4 pixels' depth, so the passes read the 768 lines of
+    // depth once (one pass a tile, its reads in address order, a line's four pixels one access),
+    // write them once, hitting the lines they read, and the resolve reads them once more.
+    const CacheStats& depth = m.caches[std::size_t(CacheClient::Depth)];
+    const std::uint64_t depthLines = samples * 4 / 64;
+    EXPECT_EQ(depth.reads, 2 * depthLines);
+    EXPECT_EQ(depth.writes, depthLines);
+    EXPECT_EQ(depth.writeHits, depthLines);
+    // Every access is some patch's.
+    for (int c = 0; c < kCacheClients; ++c) {
+        std::uint64_t sum = 0;
+        for (const PatchMemory& p : m.patches) sum += p.lineAccesses[std::size_t(c)];
+        EXPECT_EQ(sum, m.caches[std::size_t(c)].accesses()) << cacheClientName(CacheClient(c));
+    }
+    std::uint64_t dram = 0;
+    for (const PatchMemory& p : m.patches) dram += p.dramBytes;
+    EXPECT_EQ(dram, m.dramBytes());
     // With a small LLC, lines leave before the resolve, which fetches them again: each line is
     // still dirtied once and written once, and at most the two surfaces come back.
     const MemoryReport small = replay(r, cachesOf(4096, 16384));
     EXPECT_EQ(small.dramWriteBytes, m.dramWriteBytes);
     EXPECT_GT(small.dramReadBytes, 0u);
     EXPECT_LE(small.dramReadBytes, samples * 32);
+}
+
+// Every method that records its traffic writes each sample of the full-screen quad once: the same
+// bytes reach DRAM whichever method found the hits; the bounding methods read more depth (they
+// test every sample their bounds reach).
+TEST(MemoryModel, EveryTracingMethodWritesTheQuadsSurfacesOnce) {
+    const int w = 64, h = 48, spp = 4;
+    const std::uint64_t samples = std::uint64_t(w) * h * spp, pixels = std::uint64_t(w) * h;
+    for (const char* method : {"patch", "triangle-bbox", "interval"}) {
+        const RenderResult r = renderTraced(fullScreenQuad(w, h, spp), 2, method);
+        ASSERT_TRUE(r.memoryTrace) << method;
+        EXPECT_EQ(r.memoryTrace->samplesWritten(), samples) << method;
+        EXPECT_GE(r.memoryTrace->samplesRead(), samples) << method;
+        const MemoryReport m = replay(r, cachesOf(4096, 4u << 20));
+        EXPECT_EQ(m.dramReadBytes, 0u) << method;
+        EXPECT_EQ(m.dramWriteBytes, samples * 32 + pixels * 8) << method;
+    }
+    // The accumulation buffer renders a frame per sample index: not recorded yet, and said so.
+    const RenderResult interleaved = renderTraced(fullScreenQuad(16, 16, 2), 1, "interleaved");
+    EXPECT_FALSE(interleaved.memoryTrace);
+    HardwareConfig hw = defaultHardwareConfig();
+    hw.memory = cachesOf(4096, 16384);
+    EXPECT_TRUE(timeFrame(interleaved, hw).memoryNotModelled);
+}
+
+// The bounding methods' traces are their sample tests and their nearer hits, band by band.
+TEST(MemoryModel, TheBoundingMethodsTracesAreTheirTestsAndHits) {
+    SceneDesc scene = defaultScene();
+    scene.film.width = 64;
+    scene.film.height = 48;
+    scene.film.samplesPerPixel = 4;
+    for (const auto& [name, bounding] :
+         {std::pair{"triangle-bbox", Bounding::TriangleBBox}, {"interval", Bounding::Interval}}) {
+        const RenderResult one = renderTraced(scene, 1, name);
+        const CounterValues counts = CounterRegistry::instance().snapshot();
+        const BoundingCounters& c = boundingCounters(bounding);
+        EXPECT_EQ(std::int64_t(one.memoryTrace->samplesRead()), counts[c.samplesTested]) << name;
+        EXPECT_EQ(std::int64_t(one.memoryTrace->samplesWritten()), counts[c.visibilitySamples])
+            << name;
+        const RenderResult two = renderTraced(scene, 2, name);
+        const MemoryConfig m = cachesOf(4096, 16384);
+        const MemoryReport a = replay(one, m), b = replay(two, m);
+        EXPECT_EQ(a.dramReadBytes, b.dramReadBytes) << name;
+        EXPECT_EQ(a.dramWriteBytes, b.dramWriteBytes) << name;
+        EXPECT_GT(a.requested(MemoryClass::DepthReads), 0u) << name;
+    }
 }
 
 TEST(MemoryModel, ASecondIdenticalFrameHitsOnEveryReadWhenTheCachesHoldTheFrame) {
@@ -166,13 +234,24 @@ TEST(MemoryModel, AHierarchyOverTheScratchBudgetSpillsAndIsCharged) {
         spilled += spills[p];
     }
     ASSERT_GT(spilled, 0u);
+    // A tile test reads the spilled hierarchy whether or not it then tests a sample: every tile
+    // in the group's bounds is a pass of the trace.
+    const CounterValues counts = CounterRegistry::instance().snapshot();
+    std::uint64_t passes = 0, spillReads = 0;
+    for (std::size_t k = 0; k < r.memoryTrace->regionCount(); ++k)
+        for (const TracedPass& pass : r.memoryTrace->region(k).passes) {
+            ++passes;
+            spillReads += spills[pass.patch];
+        }
+    EXPECT_EQ(std::int64_t(passes), counts[rasterCounters().tilesInBounds]);
     const std::size_t last = r.patchOps.size() - 1;
     const MemoryReport fits = simulateMemory(*r.memoryTrace, m, {r.patchOps.size(), last, none});
     const MemoryReport spills256 =
         simulateMemory(*r.memoryTrace, m, {r.patchOps.size(), last, spills});
     EXPECT_EQ(fits.requested(MemoryClass::SpillWrites), 0u);
     EXPECT_EQ(spills256.requested(MemoryClass::SpillWrites), spilled);
-    EXPECT_GT(spills256.requested(MemoryClass::SpillReads), spilled);  // patches cover tiles
+    EXPECT_EQ(spills256.requested(MemoryClass::SpillReads), spillReads);
+    EXPECT_GT(spillReads, spilled);  // patches cover several tiles
     EXPECT_GT(spills256.dramBytes(), fits.dramBytes());
     for (int c = 0; c < 5; ++c)  // the surfaces' own traffic is unchanged
         EXPECT_EQ(spills256.requestedBytes[std::size_t(c)], fits.requestedBytes[std::size_t(c)]);
@@ -198,6 +277,11 @@ TEST(MemoryModel, ABandwidthBoundFrameRunsAtTheConfiguredBandwidth) {
     hw.memory->dramBytesPerClock = 0.125;
     const TimingReport slower = simulateTiming(r.patchOps, hw, &m);
     EXPECT_NEAR(slower.totalCycles / slow.totalCycles, 2.0, 0.05);
+    // The memory FIFO: a short one backs the stages up (OM stalls), a long one absorbs them.
+    hw.memory->fifoDepth = 1;
+    EXPECT_GT(simulateTiming(r.patchOps, hw, &m).stages[std::size_t(Stage::OM)].stalled, 0);
+    hw.memory->fifoDepth = 100000;
+    EXPECT_EQ(simulateTiming(r.patchOps, hw, &m).stages[std::size_t(Stage::OM)].stalled, 0);
 
     hw.memory->dramBytesPerClock = 4096;  // the rasterizer sets the pace
     const double fast = simulateTiming(r.patchOps, hw, &m).totalCycles;

@@ -390,8 +390,8 @@ int runRender(const JobSettings& s, const MpiContext& mpi) {
     if (frameTiming.memory) printMemoryReport(*frameTiming.memory, std::cout);
     if (frameTiming.memoryNotModelled)
         std::cout << "memory: not modelled for the " << options.visibilityMethod().name()
-                  << " method yet (only the patch method records its surface traffic); the "
-                     "timing above is the compute-only model's\n";
+                  << " method yet (it records no surface traffic); the timing above is the "
+                     "compute-only model's\n";
     printRenderSummary(s, scene, options, result, ste, heatMaps.size());
     return 0;
 }
@@ -526,6 +526,28 @@ std::vector<SweepVariant> sweepVariants(const JobSettings& s) {
     return variants;
 }
 
+namespace {
+
+// A sweep compares methods: with the memory system modelled, each must be charged its traffic.
+void checkSweepMethodsTraceMemory(const std::vector<SweepVariant>& variants,
+                                  const std::string& hardware) {
+    std::string missing;
+    SceneDesc probe;
+    probe.film.width = probe.film.height = probe.film.samplesPerPixel = 1;
+    for (const SweepVariant& v : variants)
+        if (!v.method->makeMemoryTrace(probe) &&
+            missing.find(v.method->name()) == std::string::npos)
+            missing += (missing.empty() ? "" : ", ") + std::string(v.method->name());
+    if (!missing.empty())
+        throw InputError(hardware, "memory",
+                         "sweep compares its methods on modelled cycles, and " + missing +
+                             " record no memory traffic yet: with memory charged to some methods "
+                             "only the comparison would be unequal; drop those methods or the "
+                             "memory section");
+}
+
+}  // namespace
+
 int runSweepCommand(const JobSettings& s) {
     imageIoModulePath();  // its pictures need the image module: refuse its absence before the work
     SweepOptions o;
@@ -535,11 +557,7 @@ int runSweepCommand(const JobSettings& s) {
     o.convergedSamplesPerPixel = s.convergedSpp;
     o.render = renderOptionsOf(s);
     o.hardware = hardwareOf(s);
-    if (o.hardware.memory)
-        throw InputError(s.hardware, "memory",
-                         "sweep compares every method, and only the patch method records its "
-                         "memory traffic so far: with memory charged to one method alone the "
-                         "comparison would be unequal; drop the section for sweep");
+    if (o.hardware.memory) checkSweepMethodsTraceMemory(o.variants, s.hardware);
     o.limits = s.limits();
     o.outputDir = s.output;
     o.progress = !s.noProgress;

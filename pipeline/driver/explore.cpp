@@ -67,7 +67,11 @@ ExploreGrid parseExploreGrid(std::string_view text, const std::string& path) {
         if (!values->is_array() || values->empty())
             section.fail(field, "expected a non-empty array of values");
         GridAxis axis{key, hardware, {}, {}};
-        for (const Json& v : *values) {
+        for (std::size_t i = 0; i < values->size(); ++i) {
+            const Json& v = (*values)[i];
+            if (!v.is_primitive() || v.is_null())
+                section.fail(field + "[" + std::to_string(i) + "]",
+                             "expected a number, a string or a boolean, found " + v.dump());
             axis.values.push_back(jsonValueText(v));
             axis.json.push_back(v);
         }
@@ -109,13 +113,16 @@ ExploreGrid parseExploreGrid(std::string_view text, const std::string& path) {
         ObjectReader section(*hw, "hardware", path);
         for (auto it = hw->begin(); it != hw->end(); ++it) {
             GridAxis axis = readAxis(section, it.key(), true);
-            HardwareConfig probe = defaultHardwareConfig();
-            // A memory field is checked against the memory system's defaults here, and against
-            // the job's hardware file by checkGridHardware.
-            if (it.key().starts_with("memory.")) probe.memory = MemoryConfig{};
-            for (std::size_t i = 0; i < axis.json.size(); ++i)
-                setHardwareParameter(probe, it.key(), axis.json[i], path,
-                                     section.fieldName(it.key()) + "[" + std::to_string(i) + "]");
+            // The stages' fields are checked here; a memory field depends on the other fields of
+            // the job's memory section, so every point is checked against the job's hardware
+            // file by checkGridHardware.
+            if (!it.key().starts_with("memory.")) {
+                HardwareConfig probe = defaultHardwareConfig();
+                for (std::size_t i = 0; i < axis.json.size(); ++i)
+                    setHardwareParameter(
+                        probe, it.key(), axis.json[i], path,
+                        section.fieldName(it.key()) + "[" + std::to_string(i) + "]");
+            }
             // Hardware values are numbers, and nlohmann compares 1 and 1.0 as numbers.
             refuseRepeats(section, axis, [&](std::size_t i, std::size_t j) {
                 return axis.json[i] == axis.json[j];
@@ -159,13 +166,36 @@ RenderOptions jobRenderOptions(int threads, const SceneLimits& limits) {
 
 }  // namespace
 
+namespace {
+
+// The hardware of one grid point: the job's file with the point's values.
+HardwareConfig gridPointHardware(const ExploreGrid& grid, const HardwareConfig& hardware,
+                                 const std::vector<std::size_t>& choice) {
+    std::vector<HardwareParameter> parameters;
+    std::string point;
+    for (std::size_t a = 0; a < grid.hardwareAxes.size(); ++a) {
+        const GridAxis& axis = grid.hardwareAxes[a];
+        parameters.push_back({axis.name, axis.json[choice[a]],
+                              "hardware." + axis.name + "[" + std::to_string(choice[a]) + "]"});
+        point += (a ? ", " : "") + axis.name + " = " + axis.values[choice[a]];
+    }
+    HardwareConfig hw = hardware;
+    try {
+        setHardwareParameters(hw, parameters, grid.path);
+    } catch (const InputError& e) {
+        // The point's other values may be what makes this one wrong: name the point.
+        throw InputError(grid.path, "",
+                         std::string(e.what()).substr(grid.path.size() + 2) +
+                             " (at the grid point " + point + ")");
+    }
+    return hw;
+}
+
+}  // namespace
+
 void checkGridHardware(const ExploreGrid& grid, const HardwareConfig& hardware) {
-    for (const GridAxis& axis : grid.hardwareAxes)
-        for (std::size_t i = 0; i < axis.json.size(); ++i) {
-            HardwareConfig probe = hardware;
-            setHardwareParameter(probe, axis.name, axis.json[i], grid.path,
-                                 "hardware." + axis.name + "[" + std::to_string(i) + "]");
-        }
+    for (const auto& choice : crossProduct(grid.hardwareAxes))
+        gridPointHardware(grid, hardware, choice);
 }
 
 std::vector<ExploreJob> exploreJobs(std::size_t sceneCount, const ExploreGrid& grid) {
@@ -204,12 +234,10 @@ std::vector<ExploreRow> runExploreJob(const std::vector<SceneDesc>& scenes, cons
         prefix.append(",").append(grid.rasterAxes[a].values[job.rasterChoice[a]]);
     std::vector<ExploreRow> rows;
     for (const auto& choice : crossProduct(grid.hardwareAxes)) {
-        HardwareConfig hw = baseHardware;
+        const HardwareConfig hw = gridPointHardware(grid, baseHardware, choice);
         ExploreRow row{jobIndex, job.rasterChoice, 0, prefix};
         for (std::size_t a = 0; a < grid.hardwareAxes.size(); ++a) {
-            const GridAxis& axis = grid.hardwareAxes[a];
-            setHardwareParameter(hw, axis.name, axis.json[choice[a]], grid.path, axis.name);
-            row.csv.append(",").append(axis.values[choice[a]]);
+            row.csv.append(",").append(grid.hardwareAxes[a].values[choice[a]]);
             row.choice.push_back(choice[a]);
         }
         const FrameTiming frame = timeFrame(result, hw);
@@ -219,7 +247,7 @@ std::vector<ExploreRow> runExploreJob(const std::vector<SceneDesc>& scenes, cons
              {formatNumber(t.totalCycles), formatNumber(t.microseconds()),
               std::string(t.bottleneckName()), formatNumber(t.bottleneckUtilisation()),
               formatNumber(ste), std::to_string(t.patchesOverBudget),
-              std::to_string(frame.memory ? frame.memory->dramBytes() : 0)})
+              frame.memory ? std::to_string(frame.memory->dramBytes()) : std::string()})
             row.csv.append(",").append(field);
         for (const auto& [name, value] : counters.byName())
             row.csv.append(",").append(std::to_string(value));

@@ -130,10 +130,7 @@ RenderResult renderScene(const SceneDesc& scene, const RenderOptions& options) {
     const SampleGenerator samples = method.makeSamples(scene.film, result.effects);
     const VisibilityTargets targets =
         makeBuffers(scene, options, frontEnd.camera(), workers, result);
-    if (options.memoryTrace && method.tracesMemory())
-        result.memoryTrace =
-            std::make_unique<MemoryTrace>(scene.film.width, scene.film.height,
-                                          scene.rasterizer.tileSize, scene.film.samplesPerPixel);
+    if (options.memoryTrace) result.memoryTrace = method.makeMemoryTrace(scene);
     const FrameInputs in{&scene,
                          &options,
                          &frontEnd,

@@ -56,6 +56,7 @@ SweepRow measureRun(const SweepScene& s, const SweepVariant& variant, int spp,
     RenderOptions options = variant.render;
     options.method = &method;
     options.progress = false;
+    options.memoryTrace = o.hardware.memory.has_value();
     std::vector<double> seconds;
     SweepRow row;
     row.scene = s.label;
@@ -68,7 +69,9 @@ SweepRow measureRun(const SweepScene& s, const SweepVariant& variant, int spp,
         seconds.push_back(result.visibilitySeconds + result.shadingSeconds);
         if (r > 0) continue;
         const CounterValues counters = CounterRegistry::instance().snapshot();
-        row.modelledCycles = simulateTiming(result.patchOps, o.hardware).totalCycles;
+        const FrameTiming timing = timeFrame(result, o.hardware);
+        row.modelledCycles = timing.timing.totalCycles;
+        if (timing.memory) row.dramBytes = timing.memory->dramBytes();
         row.visibility = method.totals(counters);
         row.shadingInvocations = counters[shadingCounters().invocations];
         row.rmse = rmse(result.frame.color, converged.color);
@@ -194,7 +197,7 @@ void markParetoFronts(std::vector<SweepRow>& rows) {
 std::string sweepCsvHeader() {
     return "scene,method,setting,spp,wall_seconds,modelled_cycles,samples_tested,rays,"
            "visibility_samples,sample_test_efficiency,shading_invocations,rmse,psnr,ssim,"
-           "coverage_error,front";
+           "coverage_error,front,dram_bytes";
 }
 
 std::string sweepCsvRow(const SweepRow& r) {
@@ -204,7 +207,8 @@ std::string sweepCsvRow(const SweepRow& r) {
            "," + std::to_string(r.visibility.visibilitySamples) + "," +
            number(r.visibility.sampleTestEfficiency) + "," + std::to_string(r.shadingInvocations) +
            "," + number(r.rmse) + "," + number(r.psnr) + "," + number(r.ssim) + "," +
-           number(r.coverageError) + "," + (r.front ? "1" : "0");
+           number(r.coverageError) + "," + (r.front ? "1" : "0") + "," +
+           (r.dramBytes ? std::to_string(*r.dramBytes) : std::string());
 }
 
 namespace {

@@ -8,6 +8,7 @@
 // Everything but the wall time is a pure function of the scene and the settings: the CSV is the
 // same for any thread count apart from that column.
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -67,6 +68,8 @@ struct SweepRow {
     std::string scene, method, setting;
     int spp = 0;
     double wallSeconds = 0, modelledCycles = 0;
+    // With the memory system modelled: bytes to and from DRAM (the CSV leaves it empty without).
+    std::optional<std::uint64_t> dramBytes;
     VisibilityTotals visibility;
     std::int64_t shadingInvocations = 0;
     double rmse = 0, psnr = 0, ssim = 1, coverageError = 0;

@@ -34,6 +34,7 @@ class BoundingFrame : public MethodFrame {
         options.bound = in_.options->triangleBound;
         options.threads = in_.workers;
         options.partition = in_.partition;
+        options.memoryTrace = in_.memoryTrace;
         const std::vector<BoundingWork> work =
             rasterizeByBounds(*in_.meshes, caster, in_.targets, options);
         for (std::size_t i = 0; i < work.size(); ++i) {
@@ -85,6 +86,15 @@ class BoundingMethod : public VisibilityMethod {
     }
     std::unique_ptr<MethodFrame> start(const FrameInputs& in) const override {
         return std::make_unique<BoundingFrame>(in, bounding_);
+    }
+    // triangle-bbox and interval rasterize triangle by triangle, a band of rows at a time. The
+    // accumulation buffer's traffic is a frame per sample index, which the bands do not run in
+    // that order: not recorded yet.
+    std::unique_ptr<MemoryTrace> makeMemoryTrace(const SceneDesc& scene) const override {
+        if (bounding_ == Bounding::Interleaved) return nullptr;
+        return std::make_unique<MemoryTrace>(MemoryTrace::bands(scene.film.width, scene.film.height,
+                                                                FramePartition::kClasses,
+                                                                scene.film.samplesPerPixel));
     }
     // The bands' prepared samples are held with the film to the memory budget.
     void check(const SceneDesc& scene, const RenderOptions& options, int workers) const override {

@@ -90,7 +90,11 @@ class PatchMethod : public VisibilityMethod {
     bool exact() const override { return true; }
     bool countsPerPixel() const override { return true; }
     bool rasterizesPatches() const override { return true; }
-    bool tracesMemory() const override { return true; }
+    std::unique_ptr<MemoryTrace> makeMemoryTrace(const SceneDesc& scene) const override {
+        return std::make_unique<MemoryTrace>(MemoryTrace::tiles(scene.film.width, scene.film.height,
+                                                                scene.rasterizer.tileSize,
+                                                                scene.film.samplesPerPixel));
+    }
     void check(const SceneDesc& scene, const RenderOptions& options, int workers) const override {
         VisibilityMethod::check(scene, options, workers);
         checkTileScratch(scene, options, workers);

@@ -55,7 +55,7 @@ struct FrameInputs {
     FramePartition partition;
     int workers = 1;
     // Where the method records its surface traffic for the memory model, when the hardware
-    // models memory and the method records it (VisibilityMethod::tracesMemory); else null.
+    // models memory and the method records it (VisibilityMethod::makeMemoryTrace); else null.
     MemoryTrace* memoryTrace = nullptr;
 
     const Camera& camera() const { return frontEnd->camera(); }
@@ -112,8 +112,12 @@ class VisibilityMethod {
     virtual bool rasterizesPatches() const { return false; }
     // Can split a frame between processes (FramePartition).
     virtual bool splitsFrames() const { return true; }
-    // Records its per-sample surface traffic for the memory model (core/memory_trace.h).
-    virtual bool tracesMemory() const { return false; }
+    // The trace its per-sample surface traffic is recorded in for the memory model
+    // (core/memory_trace.h), cut into the regions it works in; null if it records none.
+    virtual std::unique_ptr<MemoryTrace> makeMemoryTrace(const SceneDesc& scene) const {
+        (void)scene;
+        return nullptr;
+    }
 
     // The sample set the method consumes, given the effects the frame simulates.
     virtual SampleGenerator makeSamples(const FilmDesc& film, const Effects& effects) const;

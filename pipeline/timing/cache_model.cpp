@@ -1,6 +1,7 @@
 #include "pipeline/timing/cache_model.h"
 
 #include <algorithm>
+#include <stdexcept>
 
 namespace patchsim {
 
@@ -20,7 +21,10 @@ CacheModel::CacheModel(const CacheGeometry& geometry)
     : geometry_(geometry),
       sets_(geometry.sets()),
       lines_(geometry.sets() * geometry.ways, kEmpty),
-      dirty_(lines_.size(), 0) {}
+      dirty_(lines_.size(), 0) {
+    // The hardware reader refuses such geometry; a cache built in code must not divide by zero.
+    if (sets_ == 0) throw std::invalid_argument("a cache needs at least one set of lines");
+}
 
 CacheModel::Outcome CacheModel::access(std::uint64_t line, bool write) {
     const std::size_t ways = geometry_.ways;

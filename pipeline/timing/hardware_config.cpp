@@ -68,7 +68,7 @@ void readStage(ObjectReader r, StageConfig& s, Stage stage) {
 }
 
 constexpr Range kSurfaceTile{1, 256, true};
-constexpr Range kCacheBytes{1, double(std::int64_t(1) << 40), true};
+constexpr Range kCacheBytes{1, double(std::int64_t(1) << 36), true};
 constexpr Range kLineBytes{16, 4096, true};
 constexpr Range kWays{1, 64, true};
 constexpr Range kLinesPerClock{1e-9, 1e9, false};
@@ -97,6 +97,12 @@ CacheConfig readCache(ObjectReader r) {
     const CacheGeometry& g = c.geometry;
     if (std::has_single_bit(g.lineBytes) == false)
         r.fail(r.fieldName("line_bytes"), "must be a power of two");
+    // The simulation holds 9 bytes a line: 2^24 lines (a GiB of 64-byte lines) is 151 MB.
+    constexpr std::uint64_t kMaxLines = std::uint64_t(1) << 24;
+    if (g.sizeBytes / g.lineBytes > kMaxLines)
+        r.fail(r.fieldName("size_bytes"), "at most " + std::to_string(kMaxLines) +
+                                              " lines of line_bytes (" +
+                                              std::to_string(kMaxLines * g.lineBytes) + " bytes)");
     const std::uint64_t setBytes = std::uint64_t(g.lineBytes) * g.ways;
     if (g.sizeBytes % setBytes != 0)
         r.fail(r.fieldName("size_bytes"), "must be a whole number of sets of line_bytes x ways = " +
@@ -154,37 +160,66 @@ Json memoryJson(const MemoryConfig& m) {
             {"dram", {{"bytes_per_clock", m.dramBytesPerClock}, {"latency", m.dramLatency}}}};
 }
 
-// "memory.dram.latency" and the like: set in the section's JSON, which is then read again with
-// the file's checks; errors name `field` in `source`.
-void setMemoryParameter(HardwareConfig& c, const std::string& path, const Json& value,
-                        const std::string& source, const std::string& field) {
-    if (!c.memory)
-        throw InputError(source, field,
-                         "the hardware models no memory (its file has no \"memory\" section)");
-    Json section = memoryJson(*c.memory);
+// Sets "dram.latency" and the like (a path below "memory.") in the section's JSON; "line_bytes"
+// sets every cache's line size at once.
+void setInMemoryJson(Json& section, const std::string& path, const Json& value,
+                     const std::string& source, const std::string& field) {
+    const auto unknown = [&] {
+        throw InputError(source, field, "unknown hardware parameter 'memory." + path + "'");
+    };
+    if (path == "line_bytes") {
+        for (int c = 0; c < kCacheClients; ++c)
+            section["caches"][cacheClientName(CacheClient(c))]["line_bytes"] = value;
+        return;
+    }
     Json* at = &section;
     std::size_t from = 0;
     for (std::size_t dot; (dot = path.find('.', from)) != std::string::npos; from = dot + 1) {
-        at = &(*at)[path.substr(from, dot - from)];
-        if (!at->is_object())
-            throw InputError(source, field, "unknown hardware parameter 'memory." + path + "'");
+        const std::string key = path.substr(from, dot - from);
+        if (!at->contains(key) || !(*at)[key].is_object()) unknown();
+        at = &(*at)[key];
     }
     const std::string key = path.substr(from);
-    if (!at->contains(key))
-        throw InputError(source, field, "unknown hardware parameter 'memory." + path + "'");
+    if (!at->contains(key) || (*at)[key].is_object()) unknown();  // a field, not a section
     (*at)[key] = value;
-    try {
-        c.memory = readMemory(ObjectReader(section, "memory", source));
-    } catch (const InputError& e) {
-        // The reader names the section's own field; the caller's name for it is `field`.
-        const std::string prefix = source + ": " + e.field() + ": ";
-        const std::string what = e.what();
-        throw InputError(source, field,
-                         what.starts_with(prefix) ? what.substr(prefix.size()) : what);
-    }
 }
 
 }  // namespace
+
+void setHardwareParameters(HardwareConfig& c, const std::vector<HardwareParameter>& parameters,
+                           const std::string& source) {
+    std::vector<const HardwareParameter*> memory;
+    for (const HardwareParameter& p : parameters) {
+        if (p.path.starts_with("memory."))
+            memory.push_back(&p);
+        else
+            setHardwareParameter(c, p.path, p.value, source, p.field);
+    }
+    if (memory.empty()) return;
+    if (!c.memory)
+        throw InputError(source, memory.front()->field,
+                         "the hardware models no memory (its file has no \"memory\" section)");
+    // Every memory field of the set at once, then the file's checks on the whole section: one
+    // field's value may be right only with another's (a cache's size with its ways).
+    Json section = memoryJson(*c.memory);
+    for (const HardwareParameter* p : memory)
+        setInMemoryJson(section, p->path.substr(7), p->value, source, p->field);
+    try {
+        c.memory = readMemory(ObjectReader(section, "memory", source));
+    } catch (const InputError& e) {
+        // The reader names the section's own field: the caller's name for it, if it set it.
+        const HardwareParameter* culprit = memory.front();
+        for (const HardwareParameter* p : memory)
+            if (p->path == e.field() ||
+                (p->path == "memory.line_bytes" && e.field().ends_with(".line_bytes")))
+                culprit = p;
+        const std::string prefix = source + ": " + e.field() + ": ";
+        const std::string what = e.what();
+        std::string why = what.starts_with(prefix) ? what.substr(prefix.size()) : what;
+        if (culprit->path != e.field()) why = e.field() + ": " + why;
+        throw InputError(source, culprit->field, why);
+    }
+}
 
 const char* cacheClientName(CacheClient c) {
     switch (c) {
@@ -254,7 +289,7 @@ void setHardwareParameter(HardwareConfig& c, const std::string& path, const Json
         return;
     }
     if (path.starts_with("memory."))
-        return setMemoryParameter(c, path.substr(7), value, source, field);
+        return setHardwareParameters(c, {{path, value, field}}, source);
     const auto dot = path.find('.');
     if (dot == std::string::npos) fail("unknown hardware parameter '" + path + "'");
     const std::string stageText = path.substr(0, dot), rest = path.substr(dot + 1);

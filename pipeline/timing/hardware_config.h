@@ -6,10 +6,11 @@
 
 #include <array>
 #include <cstdint>
-#include <nlohmann/json_fwd.hpp>
+#include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "core/stage_ops.h"
 #include "pipeline/timing/cache_model.h"
@@ -72,5 +73,16 @@ HardwareConfig defaultHardwareConfig();  // pipeline/hw/default.json
 void setHardwareParameter(HardwareConfig& config, const std::string& path,
                           const nlohmann::json& value, const std::string& source,
                           const std::string& field);
+
+// Several at once (an `explore` grid point): the memory section's fields are set together and
+// checked as a whole, so a cache's size and ways can change together. "memory.line_bytes" sets
+// every cache's line size.
+struct HardwareParameter {
+    std::string path;
+    nlohmann::json value;
+    std::string field;
+};
+void setHardwareParameters(HardwareConfig& config, const std::vector<HardwareParameter>& parameters,
+                           const std::string& source);
 
 }  // namespace patchsim

@@ -112,18 +112,6 @@ class MemorySystem {
     MemoryReport report_;
 };
 
-// The sample a trace bit names, in screen coordinates.
-struct TracedSample {
-    int x, y, s;
-};
-
-template <class Visit>
-void forEachBit(std::span<const std::uint64_t> mask, Visit visit) {
-    for (std::size_t w = 0; w < mask.size(); ++w)
-        for (std::uint64_t rest = mask[w]; rest; rest &= rest - 1)
-            visit(w * 64 + std::size_t(std::countr_zero(rest)));
-}
-
 // Hierarchy bytes beyond the scratch budget, per patch, each at its own address after the
 // image.
 class Spills {
@@ -179,39 +167,38 @@ class Spills {
 void replayPasses(const MemoryTrace& trace, const SurfaceLayout& layout, const Spills& spills,
                   MemorySystem& memory) {
     const auto spp = std::size_t(trace.samplesPerPixel());
-    const auto size = std::size_t(trace.tileSize());
-    for (std::size_t t = 0; t < trace.tileCount(); ++t) {
-        const TileTrace& tile = trace.tile(t);
-        const int x0 = int(t % std::size_t(trace.tilesX())) * trace.tileSize();
-        const int y0 = int(t / std::size_t(trace.tilesX())) * trace.tileSize();
-        const auto sampleAt = [&](std::size_t bit) {
-            const std::size_t pixel = bit / spp;
-            return TracedSample{x0 + int(pixel % size), y0 + int(pixel / size), int(bit % spp)};
+    for (std::size_t r = 0; r < trace.regionCount(); ++r) {
+        const RegionTrace& region = trace.region(r);
+        const auto stride = std::size_t(region.stride);
+        // A sample's number in its region, in screen coordinates (core/memory_trace.h).
+        const auto at = [&](std::uint32_t local) {
+            const std::size_t pixel = local / spp;
+            return std::array<int, 3>{region.x0 + int(pixel % stride),
+                                      region.y0 + int(pixel / stride), int(local % spp)};
         };
-        for (const TracedPass& pass : tile.passes) {
-            const std::size_t patch = pass.patch;
+        for (std::size_t p = 0; p < region.passes.size(); ++p) {
+            const std::size_t patch = region.passes[p].patch;
             memory.newPass();
             spills.read(patch, memory);
-            std::uint64_t reads = 0, writes = 0;
-            forEachBit(trace.readMask(tile, pass), [&](std::size_t bit) {
-                const TracedSample s = sampleAt(bit);
-                memory.access(CacheClient::Depth, memory.lineOf(layout.depthAddress(s.x, s.y, s.s)),
+            const std::span<const std::uint32_t> reads = trace.reads(region, p);
+            const std::span<const std::uint32_t> writes = trace.writes(region, p);
+            for (std::uint32_t local : reads) {
+                const auto [x, y, s] = at(local);
+                memory.access(CacheClient::Depth, memory.lineOf(layout.depthAddress(x, y, s)),
                               false, patch);
-                ++reads;
-            });
-            forEachBit(trace.writeMask(tile, pass), [&](std::size_t bit) {
-                const TracedSample s = sampleAt(bit);
-                memory.access(CacheClient::Depth, memory.lineOf(layout.depthAddress(s.x, s.y, s.s)),
-                              true, patch);
-                const std::uint64_t v = layout.visibilityAddress(s.x, s.y, s.s);
+            }
+            for (std::uint32_t local : writes) {
+                const auto [x, y, s] = at(local);
+                memory.access(CacheClient::Depth, memory.lineOf(layout.depthAddress(x, y, s)), true,
+                              patch);
+                const std::uint64_t v = layout.visibilityAddress(x, y, s);
                 for (std::uint64_t line = memory.lineOf(v);
                      line <= memory.lineOf(v + kVisibilityBytes - 1); ++line)
                     memory.access(CacheClient::Visibility, line, true, patch);
-                ++writes;
-            });
-            memory.request(MemoryClass::DepthReads, reads * kDepthBytes);
-            memory.request(MemoryClass::DepthWrites, writes * kDepthBytes);
-            memory.request(MemoryClass::VisibilityWrites, writes * kVisibilityBytes);
+            }
+            memory.request(MemoryClass::DepthReads, reads.size() * kDepthBytes);
+            memory.request(MemoryClass::DepthWrites, writes.size() * kDepthBytes);
+            memory.request(MemoryClass::VisibilityWrites, writes.size() * kVisibilityBytes);
         }
     }
 }

@@ -13,16 +13,18 @@
 // samples consecutive; the image is row-major. Each surface starts on a 4 KiB boundary, depth
 // first.
 //
-// The order of the replay is the modelled hardware's: tiles row-major, each tile's passes in
-// patch order (a sort-middle rasterizer working one screen tile at a time, as the functional
-// rasterizer does), then the resolve (every sample's depth and visibility read, pixel by pixel,
-// and the image written), then the caches written back. A pass's z test reads its samples'
-// depth lines; a nearer hit writes the sample's depth and visibility lines. A miss fetches its
-// line from the last-level cache, and a last-level miss from DRAM, unless the line is still in
-// its cleared state (the frame's surfaces start cleared: fast clear, nothing to fetch). Dirty
-// lines evicted go one level down; the LLC's reach DRAM. Each access is charged to the patch of
-// its pass (the resolve and the final write-back to the frame's last patch), so the timing
-// model sees each patch's line accesses per cache and DRAM bytes.
+// The order of the replay is the modelled hardware's: the trace's regions in order, each
+// region's passes in order (the patch method: screen tiles row-major, each tile's groups in patch
+// order, a sort-middle rasterizer working one screen tile at a time as the functional rasterizer
+// does; triangle-bbox and interval: bands of rows top to bottom, each band's triangles in patch
+// order), then the resolve (every sample's depth and visibility read, pixel by pixel, and the
+// image written), then the caches written back. A pass's z test reads its samples' depth lines;
+// a nearer hit writes the sample's depth and visibility lines. A miss fetches its line from the
+// last-level cache, and a last-level miss from DRAM, unless the line is still in its cleared
+// state (the frame's surfaces start cleared: fast clear, nothing to fetch). Dirty lines evicted
+// go one level down; the LLC's reach DRAM. Each access is charged to the patch of its pass (the
+// resolve and the final write-back to the frame's last patch), so the timing model sees each
+// patch's line accesses per cache and DRAM bytes.
 //
 // A patch whose hierarchy outgrows the on-chip scratch budget spills the excess: written once
 // through the LLC when the hierarchy is built (before the tiles, in patch order), read again

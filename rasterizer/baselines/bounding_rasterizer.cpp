@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <optional>
 #include <utility>
 
 #include "core/counters.h"
@@ -135,8 +136,10 @@ struct ScreenBox {
 class BandRasterizer {
   public:
     BandRasterizer(const RayCaster& caster, const VisibilityTargets& targets,
-                   const BoundingOptions& options, int y0, int y1)
-        : c_(caster),
+                   const BoundingOptions& options, int y0, int y1,
+                   RegionTraceWriter* trace = nullptr)
+        : trace_(trace),
+          c_(caster),
           t_(targets),
           o_(options),
           y0_(y0),
@@ -216,6 +219,7 @@ class BandRasterizer {
                     const std::size_t i = samples_.index(y - y0_, x, s);
                     ++work.samplesTested;
                     ++work.edgeTests;
+                    if (trace_) trace_->read(bandOffset_ + i);
                     const float perLambda = samples_.depthPerLambda(i);
                     const float depthMax =
                         rayEndAtDepth(t_.opaque->depthBound(t_.opaque->records()[bandOffset_ + i]),
@@ -334,6 +338,7 @@ class BandRasterizer {
         }
         ++work.samplesTested;
         ++work.rayTriangleTests;
+        if (trace_) trace_->read(bandOffset_ + i);
         const float lambdaMax =
             rayEndAtDepth(t_.opaque->depthBound(t_.opaque->records()[bandOffset_ + i]),
                           samples_.depthPerLambda(i));
@@ -371,6 +376,7 @@ class BandRasterizer {
         if (hit.nearerThan(nearest)) {
             ++work.visibilitySamples;
             nearest = hit;
+            if (trace_) trace_->wrote(at);
         }
     }
 
@@ -389,6 +395,7 @@ class BandRasterizer {
         return xBegin < xEnd;
     }
 
+    RegionTraceWriter* trace_;  // when the hardware models memory
     const RayCaster& c_;
     const VisibilityTargets& t_;
     const BoundingOptions& o_;
@@ -459,11 +466,19 @@ std::vector<BoundingWork> rasterizeByBounds(const std::vector<MovingMesh>& meshe
                   y1 = FramePartition::bandBegin(int(band) + 1, height);
         VisibilityTargets mine = targets;
         mine.pool = int(band);
-        BandRasterizer rasterizer(caster, mine, options, y0, y1);
+        std::optional<RegionTraceWriter> trace;
+        if (options.memoryTrace) {
+            trace.emplace(*options.memoryTrace);
+            trace->beginRegion(band);
+        }
+        BandRasterizer rasterizer(caster, mine, options, y0, y1, trace ? &*trace : nullptr);
         for (std::size_t i = 0; i < meshes.size(); ++i) {
             BoundingWork& work = bandWork[band][i];
-            for (std::uint32_t tri = 0; tri < meshes[i].triangleCount(); ++tri)
+            for (std::uint32_t tri = 0; tri < meshes[i].triangleCount(); ++tri) {
+                if (trace) trace->beginPass(std::uint32_t(i));
                 rasterizer.triangle(meshes[i], tri, work);
+                if (trace) trace->endPass();
+            }
             if (band != 0)  // counted once
                 work.triangleSetups = work.screenTriangleSetups = work.fullScreenBounds =
                     work.trianglesCulled = 0;

@@ -36,6 +36,7 @@
 #include <vector>
 
 #include "core/camera.h"
+#include "core/memory_trace.h"
 #include "core/ray.h"
 #include "core/samples.h"
 #include "core/work_counts.h"
@@ -123,6 +124,9 @@ struct BoundingOptions {
     int threads = 0;
     // The bands of rows this process rasterizes.
     FramePartition partition;
+    // When the hardware models memory: each triangle's z reads and visibility writes, per band
+    // (a trace of MemoryTrace::bands with FramePartition::kClasses bands).
+    MemoryTrace* memoryTrace = nullptr;
 };
 
 // The bytes of samples prepared ahead (ray, screen position, lens, time; and for the interval

@@ -76,7 +76,7 @@ RasterOrder rasterOrder(const std::vector<std::size_t>& units,
 struct Worker {
     std::unique_ptr<TileRays> rays;  // made on the worker's first tile
     std::vector<RasterWork> work;    // per patch
-    std::unique_ptr<TileTraceWriter> trace;
+    std::unique_ptr<RegionTraceWriter> trace;
 };
 
 }  // namespace
@@ -128,13 +128,14 @@ FrameRasterWork rasterizeFrame(const std::vector<MovingMesh>& meshes,
                 worker.rays = std::make_unique<TileRays>(frame);
                 worker.work.resize(meshes.size());
                 if (options.memoryTrace) {
-                    worker.trace = std::make_unique<TileTraceWriter>(*options.memoryTrace);
+                    worker.trace = std::make_unique<RegionTraceWriter>(*options.memoryTrace);
+                    worker.trace->keepEmptyPasses();  // a tile test reads the hierarchy
                     worker.rays->trace = worker.trace.get();
                 }
             }
             TileRays& rays = *worker.rays;
             rays.load(grid.rect(tx, ty), *targets.opaque);
-            if (worker.trace) worker.trace->beginTile(tx, ty);
+            if (worker.trace) worker.trace->beginRegion(t);
             VisibilityTargets mine = targets;
             mine.pool = w;
             for (std::uint32_t g : bin) {

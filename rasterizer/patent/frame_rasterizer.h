@@ -36,7 +36,8 @@ struct FrameRasterOptions {
     const SampleTable* sampleTable = nullptr;
     // targets.opaque holds no hits yet (as renderScene makes it), so it need not be read.
     bool opaqueStartsEmpty = false;
-    // When the hardware models memory: each pass's z reads and visibility writes, per tile.
+    // When the hardware models memory: each pass's z reads and visibility writes, per tile (a
+    // trace of MemoryTrace::tiles with the grid's tile size).
     MemoryTrace* memoryTrace = nullptr;
 };
 

@@ -180,7 +180,7 @@ class TileRays {
     std::uint16_t* changed;
     // When the hardware models memory: where the passes' z reads and visibility writes are
     // recorded (the ray kernels mark reads, commitPass the writes).
-    TileTraceWriter* trace = nullptr;
+    RegionTraceWriter* trace = nullptr;
     void traceReads(int first, int last, TimeRange times) const {
         for (int i = first; i < last; ++i)
             if (times.contains(time[i])) trace->read(record[i]);
