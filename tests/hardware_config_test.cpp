@@ -157,6 +157,7 @@ TEST(HardwareConfig, BadMemoryFieldsAreRefusedByName) {
         {R"({"dram": {"latency": null}})", "memory.dram.latency: missing"},
         {R"({"surface_tile": 0})", "memory.surface_tile"},
         {R"({"banks": 4})", "memory.banks: unknown key"},
+        {R"({"depth_compression": "zip"})", "memory.depth_compression: expected \"none\""},
         {R"({"caches": {"llc": {"size_bytes": 4294967296}}})",
          "memory.caches.llc.size_bytes: at most 16777216 lines"}};
     for (const auto& [edit, expected] : cases)

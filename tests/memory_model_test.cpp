@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <fstream>
 #include <set>
 
@@ -167,6 +168,29 @@ TEST(MemoryModel, TheBoundingMethodsTracesAreTheirTestsAndHits) {
         EXPECT_EQ(a.dramWriteBytes, b.dramWriteBytes) << name;
         EXPECT_GT(a.requested(MemoryClass::DepthReads), 0u) << name;
     }
+}
+
+// With depth compression the depth surface's lines move at their block's compressed size; the
+// visibility surface and the image do not shrink.
+TEST(MemoryModel, CompressedDepthMovesFewerBytesToDram) {
+    const int w = 64, h = 48, spp = 4;
+    const std::uint64_t samples = std::uint64_t(w) * h * spp, pixels = std::uint64_t(w) * h;
+    RenderResult r = renderTraced(fullScreenQuad(w, h, spp));
+    HardwareConfig hw = defaultHardwareConfig();
+    hw.memory = cachesOf(4096, 4u << 20);
+    hw.memory->depthCompression = DepthCompression::TimePlane;
+    const FrameTiming t = timeFrame(r, hw);
+    ASSERT_TRUE(t.memory && t.memory->depthCompression);
+    const DepthCompressionReport& d = *t.memory->depthCompression;
+    EXPECT_EQ(d.blockBits.size(), std::size_t(w / 8 * h / 8));
+    EXPECT_LT(d.ratio(), 0.5);  // a flat quad facing the camera
+    EXPECT_EQ(t.memory->dramReadBytes, 0u);
+    EXPECT_LT(t.memory->dramWriteBytes, samples * 32 + pixels * 8);
+    EXPECT_GE(t.memory->dramWriteBytes, samples * 28 + pixels * 8);
+    // Each depth line at its block's size, rounded up to a byte.
+    std::uint64_t depthBytes = 0;
+    for (double scale : d.blockScales()) depthBytes += 16 * std::uint64_t(std::ceil(64 * scale));
+    EXPECT_EQ(t.memory->dramWriteBytes, depthBytes + samples * 28 + pixels * 8);
 }
 
 TEST(MemoryModel, ASecondIdenticalFrameHitsOnEveryReadWhenTheCachesHoldTheFrame) {

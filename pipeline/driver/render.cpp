@@ -130,7 +130,10 @@ RenderResult renderScene(const SceneDesc& scene, const RenderOptions& options) {
     const SampleGenerator samples = method.makeSamples(scene.film, result.effects);
     const VisibilityTargets targets =
         makeBuffers(scene, options, frontEnd.camera(), workers, result);
-    if (options.memoryTrace) result.memoryTrace = method.makeMemoryTrace(scene);
+    if (options.memoryTrace) {
+        result.memoryTrace = method.makeMemoryTrace(scene);
+        result.sampleSet = samples;  // where the samples lie, for depth compression
+    }
     const FrameInputs in{&scene,
                          &options,
                          &frontEnd,
@@ -168,10 +171,19 @@ RenderResult renderScene(const SceneDesc& scene, const RenderOptions& options) {
 
 FrameTiming timeFrame(const RenderResult& result, const HardwareConfig& hardware) {
     FrameTiming t;
-    if (hardware.memory && result.memoryTrace && !result.patchOps.empty())
-        t.memory = simulateMemory(*result.memoryTrace, *hardware.memory,
-                                  {result.patchOps.size(), result.patchOps.size() - 1,
-                                   hierarchySpills(result.patchOps, hardware.scratchBudgetBytes)});
+    if (hardware.memory && result.memoryTrace && !result.patchOps.empty()) {
+        const MemoryConfig& m = *hardware.memory;
+        FrameMemoryInputs inputs{result.patchOps.size(), result.patchOps.size() - 1,
+                                 hierarchySpills(result.patchOps, hardware.scratchBudgetBytes)};
+        std::optional<DepthCompressionReport> compression;
+        if (m.depthCompression != DepthCompression::None && result.visibility && result.sampleSet) {
+            compression = compressDepth(*result.visibility, *result.sampleSet, m.surfaceTile,
+                                        m.depthCompression);
+            inputs.depthScale = compression->blockScales();
+        }
+        t.memory = simulateMemory(*result.memoryTrace, m, inputs);
+        t.memory->depthCompression = std::move(compression);
+    }
     t.memoryNotModelled = hardware.memory && !result.memoryTrace;
     t.timing = simulateTiming(result.patchOps, hardware, t.memory ? &*t.memory : nullptr);
     return t;

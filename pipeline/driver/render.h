@@ -13,6 +13,7 @@
 
 #include <functional>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -42,6 +43,7 @@ struct RenderResult {
     std::vector<PatchOps> patchOps;  // every stage's counted work per patch, for the timing model
     // The frame's surface traffic (RenderOptions::memoryTrace, methods that record it).
     std::unique_ptr<MemoryTrace> memoryTrace;
+    std::optional<SampleGenerator> sampleSet;  // the frame's samples, when the trace is kept
 };
 
 RenderResult renderScene(const SceneDesc& scene, const RenderOptions& options);

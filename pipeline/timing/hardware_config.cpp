@@ -116,6 +116,10 @@ MemoryConfig readMemory(ObjectReader r) {
         m.surfaceTile = int(checked(*j, kSurfaceTile, r.file(), r.fieldName("surface_tile")));
     if (const Json* j = r.find("fifo_depth"))
         m.fifoDepth = int(checked(*j, kFifoDepth, r.file(), r.fieldName("fifo_depth")));
+    const std::string compression = r.string("depth_compression", "none");
+    if (!parseDepthCompression(compression, m.depthCompression))
+        r.fail(r.fieldName("depth_compression"),
+               "expected \"none\", \"plane\" or \"time_plane\", found \"" + compression + "\"");
     auto caches = r.object("caches");
     if (!caches) r.fail(r.fieldName("caches"), "missing the caches (depth, visibility, llc)");
     for (int c = 0; c < kCacheClients; ++c) {
@@ -156,6 +160,7 @@ Json memoryJson(const MemoryConfig& m) {
     }
     return {{"surface_tile", m.surfaceTile},
             {"fifo_depth", m.fifoDepth},
+            {"depth_compression", depthCompressionName(m.depthCompression)},
             {"caches", caches},
             {"dram", {{"bytes_per_clock", m.dramBytesPerClock}, {"latency", m.dramLatency}}}};
 }

@@ -14,6 +14,7 @@
 
 #include "core/stage_ops.h"
 #include "pipeline/timing/cache_model.h"
+#include "pipeline/timing/depth_compression.h"
 
 namespace patchsim {
 
@@ -43,6 +44,8 @@ struct MemoryConfig {
     double dramBytesPerClock = 32;
     double dramLatency = 200;  // cycles from a patch's last memory request to its data
     int fifoDepth = 8;         // patches waiting for the memory system
+    // Depth blocks reach DRAM at their compressed size (depth_compression.h).
+    DepthCompression depthCompression = DepthCompression::None;
 
     const CacheConfig& cache(CacheClient c) const { return caches[std::size_t(c)]; }
     CacheConfig& cache(CacheClient c) { return caches[std::size_t(c)]; }

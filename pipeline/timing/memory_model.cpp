@@ -1,6 +1,7 @@
 #include "pipeline/timing/memory_model.h"
 
 #include <bit>
+#include <cmath>
 #include <cstdio>
 #include <nlohmann/json.hpp>
 #include <span>
@@ -29,8 +30,13 @@ std::uint64_t alignUp(std::uint64_t v) {
 // The caches, DRAM and what they count, accessed a line at a time.
 class MemorySystem {
   public:
-    MemorySystem(const MemoryConfig& config, std::uint64_t endAddress, std::size_t patchCount)
-        : line_(config.lineBytes()),
+    // `depthScale`: per depth block (of `depthBlockBytes`, from address 0), its compressed size
+    // over its uncompressed one (empty: uncompressed).
+    MemorySystem(const MemoryConfig& config, std::uint64_t endAddress, std::size_t patchCount,
+                 const std::vector<double>& depthScale, std::uint64_t depthBlockBytes)
+        : depthScale_(depthScale),
+          depthBlockBytes_(depthBlockBytes),
+          line_(config.lineBytes()),
           caches_{CacheModel(config.caches[0].geometry), CacheModel(config.caches[1].geometry),
                   CacheModel(config.caches[2].geometry)},
           inDram_((endAddress / line_ + 64) / 64, 0) {
@@ -91,17 +97,27 @@ class MemorySystem {
         // A write brings a whole line (a write-back from above, or a streamed line); a read
         // miss fetches from DRAM, unless the line was never written there (still cleared).
         if (!out.hit && !write && holds(line)) {
-            report_.dramReadBytes += line_;
-            report_.patches[patch].dramBytes += line_;
+            const std::uint64_t bytes = dramBytesOf(line);
+            report_.dramReadBytes += bytes;
+            report_.patches[patch].dramBytes += bytes;
         }
     }
     void dramWrite(std::uint64_t line, std::size_t patch) {
         inDram_[line / 64] |= std::uint64_t(1) << (line % 64);
-        report_.dramWriteBytes += line_;
-        report_.patches[patch].dramBytes += line_;
+        const std::uint64_t bytes = dramBytesOf(line);
+        report_.dramWriteBytes += bytes;
+        report_.patches[patch].dramBytes += bytes;
+    }
+    // A line's bytes on the DRAM bus: a depth line at its block's compressed size.
+    std::uint64_t dramBytesOf(std::uint64_t line) const {
+        const std::uint64_t block = line * line_ / depthBlockBytes_;
+        if (block >= depthScale_.size()) return line_;
+        return std::uint64_t(std::ceil(double(line_) * depthScale_[std::size_t(block)]));
     }
     bool holds(std::uint64_t line) const { return inDram_[line / 64] >> (line % 64) & 1u; }
 
+    const std::vector<double>& depthScale_;
+    std::uint64_t depthBlockBytes_;
     std::uint64_t line_;
     std::array<CacheModel, kCacheClients> caches_;
     std::vector<std::uint64_t> inDram_;  // per line: written to DRAM this frame (else cleared)
@@ -276,7 +292,10 @@ MemoryReport simulateMemory(const MemoryTrace& trace, const MemoryConfig& config
                                config.surfaceTile);
     const Spills spills(frame.spillBytes, alignUp(layout.endAddress()));
     const std::size_t patches = std::max(frame.patchCount, frame.lastPatch + 1);
-    MemorySystem memory(config, spills.endAddress(), patches);
+    const std::uint64_t depthBlockBytes = std::uint64_t(config.surfaceTile) *
+                                          std::uint64_t(config.surfaceTile) *
+                                          std::uint64_t(trace.samplesPerPixel()) * kDepthBytes;
+    MemorySystem memory(config, spills.endAddress(), patches, frame.depthScale, depthBlockBytes);
     spills.write(memory);
     for (int f = 0; f < frame.frames; ++f) replayPasses(trace, layout, spills, memory);
     replayResolve(trace, layout, frame.lastPatch, memory);
@@ -298,11 +317,21 @@ nlohmann::ordered_json memoryReportJson(const MemoryReport& r) {
     nlohmann::ordered_json requested = nlohmann::ordered_json::object();
     for (int c = 0; c < kMemoryClasses; ++c)
         requested[memoryClassName(MemoryClass(c))] = r.requestedBytes[std::size_t(c)];
-    return {{"requested_bytes", requested},
-            {"caches", caches},
-            {"dram_read_bytes", r.dramReadBytes},
-            {"dram_write_bytes", r.dramWriteBytes},
-            {"trace_bytes", r.traceBytes}};
+    nlohmann::ordered_json json = {{"requested_bytes", requested},
+                                   {"caches", caches},
+                                   {"dram_read_bytes", r.dramReadBytes},
+                                   {"dram_write_bytes", r.dramWriteBytes},
+                                   {"trace_bytes", r.traceBytes}};
+    if (r.depthCompression) {
+        const DepthCompressionReport& d = *r.depthCompression;
+        json["depth_compression"] = {{"scheme", depthCompressionName(d.scheme)},
+                                     {"blocks", d.blockBits.size()},
+                                     {"clear_blocks", d.clearBlocks},
+                                     {"compressed_bits", d.compressedBits},
+                                     {"uncompressed_bits", d.uncompressedBits},
+                                     {"ratio", d.ratio()}};
+    }
+    return json;
 }
 
 void printMemoryReport(const MemoryReport& r, std::ostream& out) {
@@ -326,6 +355,16 @@ void printMemoryReport(const MemoryReport& r, std::ostream& out) {
                   static_cast<unsigned long long>(r.dramReadBytes),
                   static_cast<unsigned long long>(r.dramWriteBytes));
     out << line;
+    if (r.depthCompression) {
+        const DepthCompressionReport& d = *r.depthCompression;
+        std::snprintf(line, sizeof line,
+                      "  depth compression (%s): %.1f%% of the uncompressed size over the %zu "
+                      "blocks holding geometry (%.2f bits a sample); %llu clear blocks\n",
+                      depthCompressionName(d.scheme), 100.0 * d.ratio(),
+                      d.blockBits.size() - std::size_t(d.clearBlocks), 32.0 * d.ratio(),
+                      static_cast<unsigned long long>(d.clearBlocks));
+        out << line;
+    }
 }
 
 }  // namespace patchsim

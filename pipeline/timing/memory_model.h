@@ -34,11 +34,13 @@
 #include <array>
 #include <cstdint>
 #include <nlohmann/json_fwd.hpp>
+#include <optional>
 #include <ostream>
 #include <vector>
 
 #include "core/memory_trace.h"
 #include "core/stage_ops.h"
+#include "pipeline/timing/depth_compression.h"
 #include "pipeline/timing/hardware_config.h"
 
 namespace patchsim {
@@ -76,6 +78,8 @@ struct MemoryReport {
     std::uint64_t dramReadBytes = 0, dramWriteBytes = 0;
     std::vector<PatchMemory> patches;
     std::uint64_t traceBytes = 0;
+    // With depth compression: the frame's final depth, block by block.
+    std::optional<DepthCompressionReport> depthCompression;
 
     std::uint64_t dramBytes() const { return dramReadBytes + dramWriteBytes; }
     std::uint64_t requested(MemoryClass c) const { return requestedBytes[std::size_t(c)]; }
@@ -109,8 +113,12 @@ class SurfaceLayout {
 struct FrameMemoryInputs {
     std::size_t patchCount = 0;
     std::size_t lastPatch = 0;
-    std::vector<std::uint64_t> spillBytes;
+    std::vector<std::uint64_t> spillBytes{};
     int frames = 1;  // > 1: the passes again onto the surfaces as they stand (warm caches)
+    // With depth compression: per layout block of the depth surface, its compressed size over
+    // its uncompressed size, which its lines move at to and from DRAM (empty: uncompressed;
+    // DepthCompressionReport::blockScales).
+    std::vector<double> depthScale{};
 };
 
 // Per patch, its largest hierarchy's bytes beyond `scratchBudgetBytes`.
