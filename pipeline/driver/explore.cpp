@@ -184,9 +184,7 @@ HardwareConfig gridPointHardware(const ExploreGrid& grid, const HardwareConfig& 
         setHardwareParameters(hw, parameters, grid.path);
     } catch (const InputError& e) {
         // The point's other values may be what makes this one wrong: name the point.
-        throw InputError(grid.path, "",
-                         std::string(e.what()).substr(grid.path.size() + 2) +
-                             " (at the grid point " + point + ")");
+        throw InputError(grid.path, e.field(), e.message() + " (at the grid point " + point + ")");
     }
     return hw;
 }

@@ -218,11 +218,8 @@ void setHardwareParameters(HardwareConfig& c, const std::vector<HardwareParamete
             if (p->path == e.field() ||
                 (p->path == "memory.line_bytes" && e.field().ends_with(".line_bytes")))
                 culprit = p;
-        const std::string prefix = source + ": " + e.field() + ": ";
-        const std::string what = e.what();
-        std::string why = what.starts_with(prefix) ? what.substr(prefix.size()) : what;
-        if (culprit->path != e.field()) why = e.field() + ": " + why;
-        throw InputError(source, culprit->field, why);
+        throw InputError(source, culprit->field,
+                         culprit->path == e.field() ? e.message() : e.field() + ": " + e.message());
     }
 }
 
