@@ -46,7 +46,7 @@ struct FarLimitEvaluator::Impl {
     std::unique_ptr<osd::Far::PtexIndices> ptex;
     osd::Sdc::SchemeType scheme = osd::Sdc::SCHEME_CATMARK;
     int baseVertices = 0;
-    std::unordered_map<int, int> controlPointCounts;  // by face
+    std::unordered_map<int, std::vector<int>> controlPoints;  // by face
 
     const osd::Far::PatchTable::PatchHandle* find(int face, const float faceUV[2],
                                                   float subUV[2]) const {
@@ -97,7 +97,7 @@ FarLimitEvaluator::FarLimitEvaluator(
         if (param.GetType() == osd::Bfr::Parameterization::TRI) uv[0] = uv[1] = 1.0f / 3.0f;
         if (param.HasSubFaces()) param.ConvertNormalizedSubFaceToCoord(0, centre, uv);
         evaluate(face, uv, scratch);
-        impl_->controlPointCounts[face] = int(scratch.controlPoints.size());
+        impl_->controlPoints[face] = scratch.controlPoints;
     }
 }
 
@@ -110,9 +110,10 @@ bool FarLimitEvaluator::hasSurface(int face) const {
     return impl_->find(face, centre, sub) != nullptr;
 }
 
-int FarLimitEvaluator::controlPointCount(int face) const {
-    const auto it = impl_->controlPointCounts.find(face);
-    return it == impl_->controlPointCounts.end() ? 0 : it->second;
+const std::vector<int>& FarLimitEvaluator::controlPoints(int face) const {
+    static const std::vector<int> kNone;
+    const auto it = impl_->controlPoints.find(face);
+    return it == impl_->controlPoints.end() ? kNone : it->second;
 }
 
 void FarLimitEvaluator::evaluate(int face, const float faceUV[2], LimitStencil& out) const {

@@ -53,8 +53,8 @@ class FarLimitEvaluator {
     bool hasSurface(int face) const;
     // Limit stencil of `face` at face-level (u,v) (Bfr's parameterization of the face).
     void evaluate(int face, const float faceUV[2], LimitStencil& out) const;
-    // Cage vertices the face's surface depends on.
-    int controlPointCount(int face) const;
+    // Cage vertices the face's surface depends on (empty for a face without a surface).
+    const std::vector<int>& controlPoints(int face) const;
 
   private:
     struct Impl;

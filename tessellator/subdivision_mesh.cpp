@@ -324,8 +324,18 @@ void SubdivisionMesh::faceCoord(const PatchInfo& patch, float u, float v, float 
 }
 
 int SubdivisionMesh::controlPointCount(int face) const {
-    if (impl_->onFar[std::size_t(face)]) return impl_->far->controlPointCount(face);
+    if (impl_->onFar[std::size_t(face)]) return int(impl_->far->controlPoints(face).size());
     return impl_->surfaces[std::size_t(face)].GetNumControlPoints();
+}
+
+void SubdivisionMesh::controlPointIndices(int face, std::vector<int>& out) const {
+    if (impl_->onFar[std::size_t(face)]) {
+        out = impl_->far->controlPoints(face);
+        return;
+    }
+    const osd::Bfr::Surface<float>& surface = impl_->surfaces[std::size_t(face)];
+    out.resize(std::size_t(surface.GetNumControlPoints()));
+    if (!out.empty()) surface.GetControlPointIndices(out.data());
 }
 
 int SubdivisionMesh::farEvaluatedFaceCount() const {

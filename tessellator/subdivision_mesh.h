@@ -115,6 +115,8 @@ class SubdivisionMesh {
 
     // Control points of a face's limit surface (what a hull shader would read for the patch).
     int controlPointCount(int face) const;
+    // Their cage vertex indices, in the order the surface's stencils use them.
+    void controlPointIndices(int face, std::vector<int>& out) const;
 
     // Face-level (u,v) of the Bfr parameterization for a patch-local domain point.
     void faceCoord(const PatchInfo& patch, float u, float v, float faceUV[2]) const;

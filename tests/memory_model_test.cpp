@@ -12,6 +12,7 @@
 #include "pipeline/driver/render.h"
 #include "rasterizer/baselines/bounding_rasterizer.h"
 #include "rasterizer/patent/raster_work.h"
+#include "tessellator/front_end_work.h"
 #include "tests/test_paths.h"
 
 namespace patchsim {
@@ -49,6 +50,7 @@ MemoryConfig cachesOf(std::uint64_t depthBytes, std::uint64_t llcBytes) {
     MemoryConfig m;
     m.cache(CacheClient::Depth).geometry = {depthBytes, 64, 4, Replacement::Lru};
     m.cache(CacheClient::Visibility).geometry = {depthBytes, 64, 4, Replacement::Lru};
+    m.cache(CacheClient::VertexInput).geometry = {2048, 64, 4, Replacement::Lru};
     m.cache(CacheClient::LastLevel).geometry = {llcBytes, 64, 16, Replacement::Lru};
     return m;
 }
@@ -184,7 +186,9 @@ TEST(MemoryModel, CompressedDepthMovesFewerBytesToDram) {
     const DepthCompressionReport& d = *t.memory->depthCompression;
     EXPECT_EQ(d.blockBits.size(), std::size_t(w / 8 * h / 8));
     EXPECT_LT(d.ratio(), 0.5);  // a flat quad facing the camera
-    EXPECT_EQ(t.memory->dramReadBytes, 0u);
+    // Only the front end reads DRAM: the bilinear face's 4 indices and 4 positions, a line each.
+    ASSERT_EQ(r.controlPointFetch.vertices.size(), 4u);
+    EXPECT_EQ(t.memory->dramReadBytes, 2u * 64);
     EXPECT_LT(t.memory->dramWriteBytes, samples * 32 + pixels * 8);
     EXPECT_GE(t.memory->dramWriteBytes, samples * 28 + pixels * 8);
     // Each depth line at its block's size, rounded up to a byte.
@@ -279,6 +283,57 @@ TEST(MemoryModel, AHierarchyOverTheScratchBudgetSpillsAndIsCharged) {
     EXPECT_GT(spills256.dramBytes(), fits.dramBytes());
     for (int c = 0; c < 5; ++c)  // the surfaces' own traffic is unchanged
         EXPECT_EQ(spills256.requestedBytes[std::size_t(c)], fits.requestedBytes[std::size_t(c)]);
+}
+
+// The input assembler's fetch, worked by hand: two patches sharing two vertices, a 1 x 1 frame.
+// Patch 0 reads its index line and vertex line 0 (vertices 0-3, bytes 0-47), both misses; patch 1
+// reads the same index line and vertex line 0 again (hits) and line 1 for vertex 5's last bytes
+// (bytes 60-71), a miss. Three misses fetch three lines from DRAM; nothing else is read there.
+TEST(MemoryModel, TheInputAssemblerFetchesEachPatchsControlPointsThroughItsCache) {
+    const MemoryTrace trace = MemoryTrace::tiles(1, 1, 1, 1);
+    MemoryConfig m = cachesOf(4096, 16384);
+    m.cache(CacheClient::VertexInput).geometry = {2048, 64, 4, Replacement::Lru};
+    ControlPointFetch fetch;
+    fetch.patchBegin = {0, 4, 8};
+    fetch.vertices = {0, 1, 2, 3, 2, 3, 4, 5};
+    fetch.vertexCount = 6;
+    FrameMemoryInputs inputs{2, 1, {}};
+    const MemoryReport without = simulateMemory(trace, m, inputs);
+    inputs.fetch = &fetch;
+    const MemoryReport with = simulateMemory(trace, m, inputs);
+    EXPECT_EQ(with.requested(MemoryClass::IndexReads), 8u * kIndexBytes);
+    EXPECT_EQ(with.requested(MemoryClass::ControlPointReads), 8u * kControlPointBytes);
+    const CacheStats& input = with.caches[std::size_t(CacheClient::VertexInput)];
+    EXPECT_EQ(input.reads, 5u);
+    EXPECT_EQ(input.readHits, 2u);
+    EXPECT_EQ(input.writes, 0u);
+    EXPECT_EQ(without.dramReadBytes, 0u);
+    EXPECT_EQ(with.dramReadBytes, 3u * 64);
+    EXPECT_EQ(with.dramWriteBytes, without.dramWriteBytes);  // read-only buffers
+    EXPECT_EQ(with.patches[0].lineAccesses[std::size_t(CacheClient::VertexInput)], 2u);
+    EXPECT_EQ(with.patches[1].lineAccesses[std::size_t(CacheClient::VertexInput)], 3u);
+    EXPECT_EQ(with.patches[0].dramBytes, 2u * 64);
+}
+
+// A rendered frame fetches, per patch, as many control points as the vertex stage counts.
+TEST(MemoryModel, ARenderedFrameFetchesTheControlPointsTheVertexStageCounts) {
+    SceneDesc scene = defaultScene();
+    scene.film.width = 48;
+    scene.film.height = 32;
+    const RenderResult r = renderTraced(scene);
+    const CounterValues counts = CounterRegistry::instance().snapshot();
+    const ControlPointFetch& fetch = r.controlPointFetch;
+    ASSERT_EQ(fetch.patches(), r.patchOps.size());
+    EXPECT_EQ(std::int64_t(fetch.vertices.size()),
+              counts[frontEndCounters().patchControlPoints]);
+    for (const std::uint32_t v : fetch.vertices) ASSERT_LT(v, fetch.vertexCount);
+    FrameMemoryInputs inputs{r.patchOps.size(), r.patchOps.size() - 1, {}};
+    inputs.fetch = &fetch;
+    const MemoryReport m = simulateMemory(*r.memoryTrace, cachesOf(16384, 65536), inputs);
+    EXPECT_EQ(m.requested(MemoryClass::ControlPointReads),
+              fetch.vertices.size() * kControlPointBytes);
+    // Neighbouring patches share control points: most reads hit.
+    EXPECT_GT(m.caches[std::size_t(CacheClient::VertexInput)].hitRate(), 0.5);
 }
 
 // The timing model with the memory system: a frame that streams through the caches is

@@ -92,6 +92,25 @@ bool gatherSplitFrame(const FrameShare& share, const CounterValues& beforeVisibi
     return true;
 }
 
+// Each patch's control points as the input assembler fetches them (the memory model's front-end
+// traffic), patches in the front end's order.
+ControlPointFetch controlPointFetch(const FrontEnd& frontEnd) {
+    ControlPointFetch fetch;
+    fetch.patchBegin.reserve(frontEnd.patchCount() + 1);
+    fetch.patchBegin.push_back(0);
+    std::vector<int> indices;
+    for (const SceneObject& object : frontEnd.objects()) {
+        for (const PatchInfo& patch : object.mesh->patches()) {
+            object.mesh->controlPointIndices(patch.face, indices);
+            for (const int v : indices)
+                fetch.vertices.push_back(std::uint32_t(fetch.vertexCount + std::uint64_t(v)));
+            fetch.patchBegin.push_back(fetch.vertices.size());
+        }
+        fetch.vertexCount += object.cage.positions.size();
+    }
+    return fetch;
+}
+
 // The scene through IA, VS, HS, TS and DS, on all threads.
 FrontEndOutput frontEndStages(const FrontEnd& frontEnd, const RenderOptions& options, int workers,
                               RenderResult& result) {
@@ -133,6 +152,7 @@ RenderResult renderScene(const SceneDesc& scene, const RenderOptions& options) {
     if (options.memoryTrace) {
         result.memoryTrace = method.makeMemoryTrace(scene);
         result.sampleSet = samples;  // where the samples lie, for depth compression
+        if (result.memoryTrace) result.controlPointFetch = controlPointFetch(frontEnd);
     }
     const FrameInputs in{&scene,
                          &options,
@@ -175,6 +195,7 @@ FrameTiming timeFrame(const RenderResult& result, const HardwareConfig& hardware
         const MemoryConfig& m = *hardware.memory;
         FrameMemoryInputs inputs{result.patchOps.size(), result.patchOps.size() - 1,
                                  hierarchySpills(result.patchOps, hardware.scratchBudgetBytes)};
+        inputs.fetch = &result.controlPointFetch;
         std::optional<DepthCompressionReport> compression;
         if (m.depthCompression != DepthCompression::None && result.visibility && result.sampleSet) {
             compression = compressDepth(*result.visibility, *result.sampleSet, m.surfaceTile,

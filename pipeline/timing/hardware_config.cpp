@@ -110,6 +110,18 @@ CacheConfig readCache(ObjectReader r) {
     return c;
 }
 
+// ATTILA's streamer input cache (bGPU.ini: 32 lines of 64 bytes), 4-way, at the memory's line
+// size: what a memory section without a "vertex_input" cache gets.
+CacheConfig defaultVertexInputCache(std::uint32_t lineBytes) {
+    CacheConfig c;
+    c.geometry.sizeBytes = 32 * std::uint64_t(lineBytes);
+    c.geometry.lineBytes = lineBytes;
+    c.geometry.ways = 4;
+    c.geometry.replacement = Replacement::Lru;
+    c.linesPerClock = 1;
+    return c;
+}
+
 MemoryConfig readMemory(ObjectReader r) {
     MemoryConfig m;
     if (const Json* j = r.find("surface_tile"))
@@ -125,6 +137,10 @@ MemoryConfig readMemory(ObjectReader r) {
     for (int c = 0; c < kCacheClients; ++c) {
         const char* name = cacheClientName(CacheClient(c));
         auto cache = caches->object(name);
+        if (!cache && CacheClient(c) == CacheClient::VertexInput) {
+            m.caches[std::size_t(c)] = defaultVertexInputCache(m.lineBytes());
+            continue;
+        }
         if (!cache) caches->fail(caches->fieldName(name), "missing cache");
         m.caches[std::size_t(c)] = readCache(*cache);
         if (m.caches[std::size_t(c)].geometry.lineBytes != m.lineBytes())
@@ -229,6 +245,8 @@ const char* cacheClientName(CacheClient c) {
             return "depth";
         case CacheClient::Visibility:
             return "visibility";
+        case CacheClient::VertexInput:
+            return "vertex_input";
         case CacheClient::LastLevel:
             return "llc";
     }
@@ -241,6 +259,8 @@ const char* cacheClientTitle(CacheClient c) {
             return "depth cache";
         case CacheClient::Visibility:
             return "visibility cache";
+        case CacheClient::VertexInput:
+            return "vertex input cache";
         case CacheClient::LastLevel:
             return "last-level cache";
     }

@@ -25,9 +25,10 @@ struct StageConfig {
     std::array<double, kOpCount> throughput{};  // per unit per clock, for this stage's op kinds
 };
 
-// The caches of the memory system, each a client of the last-level cache but the LLC itself.
-enum class CacheClient : std::uint8_t { Depth, Visibility, LastLevel };
-inline constexpr int kCacheClients = 3;
+// The caches of the memory system, each a client of the last-level cache but the LLC itself
+// (always the last).
+enum class CacheClient : std::uint8_t { Depth, Visibility, VertexInput, LastLevel };
+inline constexpr int kCacheClients = 4;
 const char* cacheClientName(CacheClient c);   // its key in the hardware file: "depth", ...
 const char* cacheClientTitle(CacheClient c);  // in reports: "depth cache", ...
 
@@ -37,7 +38,8 @@ struct CacheConfig {
 };
 
 // The memory system (docs/HARDWARE.md, "Memory"): per-sample surfaces in a tiled layout, a
-// depth and a visibility cache in front of a shared last-level cache, and DRAM.
+// depth and a visibility cache and the input assembler's vertex input cache in front of a shared
+// last-level cache, and DRAM.
 struct MemoryConfig {
     int surfaceTile = 8;  // pixels per side of a layout block of the per-sample surfaces
     std::array<CacheConfig, kCacheClients> caches;

@@ -32,13 +32,14 @@ class MemorySystem {
   public:
     // `depthScale`: per depth block (of `depthBlockBytes`, from address 0), its compressed size
     // over its uncompressed one (empty: uncompressed).
+    static_assert(kCacheClients == 4, "a CacheModel per client below");
     MemorySystem(const MemoryConfig& config, std::uint64_t endAddress, std::size_t patchCount,
                  const std::vector<double>& depthScale, std::uint64_t depthBlockBytes)
         : depthScale_(depthScale),
           depthBlockBytes_(depthBlockBytes),
           line_(config.lineBytes()),
           caches_{CacheModel(config.caches[0].geometry), CacheModel(config.caches[1].geometry),
-                  CacheModel(config.caches[2].geometry)},
+                  CacheModel(config.caches[2].geometry), CacheModel(config.caches[3].geometry)},
           inDram_((endAddress / line_ + 64) / 64, 0) {
         report_.patches.resize(patchCount);
     }
@@ -69,6 +70,11 @@ class MemorySystem {
     }
     // A read that bypasses the client caches (a hierarchy's spilled nodes).
     void readLastLevel(std::uint64_t line, std::size_t patch) { lastLevel(line, false, patch); }
+    // Lines that hold data in DRAM before the frame (the scene's buffers).
+    void markInDram(std::uint64_t firstLine, std::uint64_t lastLine) {
+        for (std::uint64_t line = firstLine; line <= lastLine; ++line)
+            inDram_[line / 64] |= std::uint64_t(1) << (line % 64);
+    }
     void request(MemoryClass c, std::uint64_t bytes) {
         report_.requestedBytes[std::size_t(c)] += bytes;
     }
@@ -122,7 +128,8 @@ class MemorySystem {
     std::array<CacheModel, kCacheClients> caches_;
     std::vector<std::uint64_t> inDram_;  // per line: written to DRAM this frame (else cleared)
     using LastLines = std::array<std::array<std::uint64_t, 2>, kCacheClients>;
-    static constexpr LastLines kNoLast{{{kNone, kNone}, {kNone, kNone}, {kNone, kNone}}};
+    static constexpr LastLines kNoLast{
+        {{kNone, kNone}, {kNone, kNone}, {kNone, kNone}, {kNone, kNone}}};
     LastLines last_ = kNoLast;
     std::uint64_t lastStream_ = kNone;
     MemoryReport report_;
@@ -143,13 +150,11 @@ class Spills {
     }
     std::uint64_t endAddress() const { return begin_.back(); }
     // Written once, in patch order, as the hierarchies are built.
-    void write(MemorySystem& memory) const {
-        for (std::size_t p = 0; p < bytes_.size(); ++p) {
-            if (bytes_[p] == 0) continue;
-            memory.newPass();
-            for (std::uint64_t line : lines(memory, p)) memory.streamWrite(line, p);
-            memory.request(MemoryClass::SpillWrites, bytes_[p]);
-        }
+    void write(std::size_t p, MemorySystem& memory) const {
+        if (p >= bytes_.size() || bytes_[p] == 0) return;
+        memory.newPass();
+        for (std::uint64_t line : lines(memory, p)) memory.streamWrite(line, p);
+        memory.request(MemoryClass::SpillWrites, bytes_[p]);
     }
     // Read back by one of the patch's tile passes.
     void read(std::size_t patch, MemorySystem& memory) const {
@@ -178,6 +183,44 @@ class Spills {
     }
     const std::vector<std::uint64_t>& bytes_;
     std::vector<std::uint64_t> begin_;
+};
+
+// The scene's index and vertex buffers, after the spills, and the input assembler's reads of
+// them.
+class InputBuffers {
+  public:
+    InputBuffers(const ControlPointFetch* fetch, std::uint64_t base)
+        : fetch_(fetch ? *fetch : kNoFetch),
+          indexBase_(base),
+          vertexBase_(alignUp(base + fetch_.vertices.size() * kIndexBytes)),
+          end_(alignUp(vertexBase_ + fetch_.vertexCount * kControlPointBytes)) {}
+    std::uint64_t endAddress() const { return end_; }
+    void markInDram(MemorySystem& memory) const {
+        if (end_ > indexBase_) memory.markInDram(memory.lineOf(indexBase_), memory.lineOf(end_ - 1));
+    }
+    // Patch `p`'s indices, then its control points, through the vertex input cache.
+    void read(std::size_t p, MemorySystem& memory) const {
+        if (p >= fetch_.patches()) return;
+        const std::uint64_t begin = fetch_.patchBegin[p], end = fetch_.patchBegin[p + 1];
+        if (begin == end) return;
+        memory.newPass();
+        readBytes(indexBase_ + begin * kIndexBytes, (end - begin) * kIndexBytes, p, memory);
+        for (std::uint64_t k = begin; k < end; ++k)
+            readBytes(vertexBase_ + std::uint64_t(fetch_.vertices[k]) * kControlPointBytes,
+                      kControlPointBytes, p, memory);
+        memory.request(MemoryClass::IndexReads, (end - begin) * kIndexBytes);
+        memory.request(MemoryClass::ControlPointReads, (end - begin) * kControlPointBytes);
+    }
+
+  private:
+    static void readBytes(std::uint64_t at, std::uint64_t bytes, std::size_t p,
+                          MemorySystem& memory) {
+        for (std::uint64_t line = memory.lineOf(at); line <= memory.lineOf(at + bytes - 1); ++line)
+            memory.access(CacheClient::VertexInput, line, false, p);
+    }
+    static inline const ControlPointFetch kNoFetch{};
+    const ControlPointFetch& fetch_;
+    std::uint64_t indexBase_, vertexBase_, end_;
 };
 
 void replayPasses(const MemoryTrace& trace, const SurfaceLayout& layout, const Spills& spills,
@@ -295,8 +338,15 @@ MemoryReport simulateMemory(const MemoryTrace& trace, const MemoryConfig& config
     const std::uint64_t depthBlockBytes = std::uint64_t(config.surfaceTile) *
                                           std::uint64_t(config.surfaceTile) *
                                           std::uint64_t(trace.samplesPerPixel()) * kDepthBytes;
-    MemorySystem memory(config, spills.endAddress(), patches, frame.depthScale, depthBlockBytes);
-    spills.write(memory);
+    const InputBuffers inputs(frame.fetch, spills.endAddress());
+    MemorySystem memory(config, inputs.endAddress(), patches, frame.depthScale, depthBlockBytes);
+    inputs.markInDram(memory);
+    // The front end runs ahead of the tiles (sort-middle): each patch fetched, then its hierarchy
+    // built.
+    for (std::size_t p = 0; p < patches; ++p) {
+        inputs.read(p, memory);
+        spills.write(p, memory);
+    }
     for (int f = 0; f < frame.frames; ++f) replayPasses(trace, layout, spills, memory);
     replayResolve(trace, layout, frame.lastPatch, memory);
     memory.writeBack(frame.lastPatch);
@@ -338,14 +388,14 @@ void printMemoryReport(const MemoryReport& r, std::ostream& out) {
     char line[160];
     out << "memory: requested bytes by class\n";
     for (int c = 0; c < kMemoryClasses; ++c) {
-        std::snprintf(line, sizeof line, "  %-18s %14llu\n", memoryClassName(MemoryClass(c)),
+        std::snprintf(line, sizeof line, "  %-20s %14llu\n", memoryClassName(MemoryClass(c)),
                       static_cast<unsigned long long>(r.requestedBytes[std::size_t(c)]));
         out << line;
     }
-    out << "  cache              line reads  line writes   hit rate  write-backs\n";
+    out << "  cache                line reads  line writes   hit rate  write-backs\n";
     for (int c = 0; c < kCacheClients; ++c) {
         const CacheStats& s = r.caches[std::size_t(c)];
-        std::snprintf(line, sizeof line, "  %-16s %12llu %12llu %9.1f%% %12llu\n",
+        std::snprintf(line, sizeof line, "  %-18s %12llu %12llu %9.1f%% %12llu\n",
                       cacheClientTitle(CacheClient(c)), static_cast<unsigned long long>(s.reads),
                       static_cast<unsigned long long>(s.writes), 100.0 * s.hitRate(),
                       static_cast<unsigned long long>(s.writebacks));

@@ -26,6 +26,13 @@
 // resolve and the final write-back to the frame's last patch), so the timing model sees each
 // patch's line accesses per cache and DRAM bytes.
 //
+// Before the tiles, in patch order, the input assembler fetches each patch's control points
+// through the vertex input cache: their cage vertex indices from an index buffer (4 bytes each,
+// a patch's consecutive) and then each vertex's position from a vertex buffer (12 bytes, every
+// object's cage one after another), both after the spills; neighbouring patches share vertices,
+// so the cache and the LLC catch the repeats. These buffers are the scene's, in DRAM before the
+// frame starts.
+//
 // A patch whose hierarchy outgrows the on-chip scratch budget spills the excess: written once
 // through the LLC when the hierarchy is built (before the tiles, in patch order), read again
 // through the LLC by each of the patch's tile passes (all of it: an upper bound, as which nodes a
@@ -53,18 +60,30 @@ namespace patchsim {
     X(ResolveReads, "resolve_reads", "the resolve's reads of every sample's record")          \
     X(ImageWrites, "image_writes", "the final image, 8 bytes a pixel")                        \
     X(SpillWrites, "spill_writes", "hierarchy bytes beyond the scratch budget, written once") \
-    X(SpillReads, "spill_reads", "those bytes read again by each of the patch's tile passes")
+    X(SpillReads, "spill_reads", "those bytes read again by each of the patch's tile passes")   \
+    X(IndexReads, "index_reads", "a patch's control-point indices (4 bytes each)")             \
+    X(ControlPointReads, "control_point_reads", "its control points' cage positions (12 bytes)")
 
 enum class MemoryClass : std::uint8_t {
 #define PATCHSIM_MEMORY_CLASS_ENUM(name, key, definition) name,
     PATCHSIM_MEMORY_CLASSES(PATCHSIM_MEMORY_CLASS_ENUM)
 #undef PATCHSIM_MEMORY_CLASS_ENUM
 };
-inline constexpr int kMemoryClasses = 7;
+inline constexpr int kMemoryClasses = 9;
 const char* memoryClassName(MemoryClass c);
 const char* memoryClassDefinition(MemoryClass c);
 
 inline constexpr std::uint32_t kDepthBytes = 4, kVisibilityBytes = 28, kImagePixelBytes = 8;
+inline constexpr std::uint32_t kIndexBytes = 4, kControlPointBytes = 12;
+
+// What the input assembler fetches for each patch, in patch order: its control points' indices
+// into the scene's vertex buffer (every object's cage vertices, object after object).
+struct ControlPointFetch {
+    std::vector<std::uint64_t> patchBegin;  // patch p's indices: [patchBegin[p], patchBegin[p + 1])
+    std::vector<std::uint32_t> vertices;
+    std::uint64_t vertexCount = 0;  // in the vertex buffer
+    std::size_t patches() const { return patchBegin.empty() ? 0 : patchBegin.size() - 1; }
+};
 
 // One patch's memory work: line accesses per cache and bytes moved to and from DRAM.
 struct PatchMemory {
@@ -119,6 +138,7 @@ struct FrameMemoryInputs {
     // its uncompressed size, which its lines move at to and from DRAM (empty: uncompressed;
     // DepthCompressionReport::blockScales).
     std::vector<double> depthScale{};
+    const ControlPointFetch* fetch = nullptr;  // null: no front-end traffic (a bare trace)
 };
 
 // Per patch, its largest hierarchy's bytes beyond `scratchBudgetBytes`.

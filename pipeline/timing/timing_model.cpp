@@ -200,7 +200,7 @@ void printTimingReport(const TimingReport& r, std::ostream& out) {
                       100.0 * m.server.utilisation);
         out << line;
         for (int k = 0; k < kMemoryParts; ++k) {
-            std::snprintf(line, sizeof line, "    %-16s %11.0f busy  %10.1f%%\n",
+            std::snprintf(line, sizeof line, "    %-18s %11.0f busy  %10.1f%%\n",
                           memoryPartTitle(k), m.busy[std::size_t(k)],
                           100.0 * m.utilisation[std::size_t(k)]);
             out << line;
