@@ -133,6 +133,23 @@ TEST(HardwareConfig, TheMemorySectionIsReadAndOptional) {
         EXPECT_EQ(m.stages[std::size_t(s)].throughput, d.stages[std::size_t(s)].throughput);
 }
 
+// The vertex input cache may be left out: ATTILA's 32 lines at the memory's line size, 4-way.
+TEST(HardwareConfig, AMemorySectionWithoutAVertexInputCacheGetsATTILAs) {
+    nlohmann::json file =
+        nlohmann::json::parse(readTextFile(test::sourcePath("pipeline/hw/memory.json")));
+    file["memory"]["caches"].erase("vertex_input");
+    for (const char* cache : {"depth", "visibility", "llc"})
+        file["memory"]["caches"][cache]["line_bytes"] = 128;
+    const HardwareConfig c = parseHardwareConfig(file.dump(), "hw.json");
+    const CacheConfig& input = c.memory->cache(CacheClient::VertexInput);
+    EXPECT_EQ(input.geometry.sizeBytes, 32u * 128);
+    EXPECT_EQ(input.geometry.lineBytes, 128u);
+    EXPECT_EQ(input.geometry.ways, 4u);
+    EXPECT_EQ(input.linesPerClock, 1);
+    const HardwareConfig given = readHardwareConfig(test::sourcePath("pipeline/hw/memory.json"));
+    EXPECT_EQ(given.memory->cache(CacheClient::VertexInput).geometry.sizeBytes, 2048u);
+}
+
 std::string memoryErrorOf(const std::string& edit) {
     nlohmann::json file =
         nlohmann::json::parse(readTextFile(test::sourcePath("pipeline/hw/memory.json")));
@@ -153,6 +170,8 @@ TEST(HardwareConfig, BadMemoryFieldsAreRefusedByName) {
          "memory.caches.depth.size_bytes: must be a whole number of sets"},
         {R"({"caches": {"depth": {"replacement": "random"}}})", "memory.caches.depth.replacement"},
         {R"({"caches": {"llc": null}})", "memory.caches.llc: missing cache"},
+        {R"({"caches": {"vertex_input": {"size_bytes": 96}}})",
+         "memory.caches.vertex_input.size_bytes: must be a whole number of sets"},
         {R"({"dram": {"bytes_per_clock": -1}})", "memory.dram.bytes_per_clock"},
         {R"({"dram": {"latency": null}})", "memory.dram.latency: missing"},
         {R"({"surface_tile": 0})", "memory.surface_tile"},
