@@ -29,6 +29,12 @@ std::span<const std::uint32_t> MemoryTrace::writes(const RegionTrace& r, std::si
     return {r.writes.data() + r.passes[pass].writeBegin, end - r.passes[pass].writeBegin};
 }
 
+std::span<const std::uint32_t> MemoryTrace::offers(const RegionTrace& r, std::size_t pass) const {
+    const std::size_t end =
+        pass + 1 < r.passes.size() ? r.passes[pass + 1].offerBegin : r.offers.size();
+    return {r.offers.data() + r.passes[pass].offerBegin, end - r.passes[pass].offerBegin};
+}
+
 std::uint64_t MemoryTrace::samplesRead() const {
     std::uint64_t n = 0;
     for (const RegionTrace& r : regions_) n += r.reads.size();
@@ -41,11 +47,25 @@ std::uint64_t MemoryTrace::samplesWritten() const {
     return n;
 }
 
+std::uint64_t MemoryTrace::fragmentsOffered() const {
+    std::uint64_t n = 0;
+    for (const RegionTrace& r : regions_) n += r.offers.size();
+    return n;
+}
+
+std::uint64_t MemoryTrace::layersAppended() const {
+    std::uint64_t n = 0;
+    for (const RegionTrace& r : regions_)
+        n += std::uint64_t(std::count_if(r.offers.begin(), r.offers.end(),
+                                         [](std::uint32_t o) { return (o & kAppended) != 0; }));
+    return n;
+}
+
 std::uint64_t MemoryTrace::bytes() const {
     std::uint64_t n = 0;
     for (const RegionTrace& r : regions_)
         n += r.passes.size() * sizeof(TracedPass) +
-             (r.reads.size() + r.writes.size()) * sizeof(std::uint32_t);
+             (r.reads.size() + r.writes.size() + r.offers.size()) * sizeof(std::uint32_t);
     return n;
 }
 
@@ -54,11 +74,13 @@ void RegionTraceWriter::beginRegion(std::size_t index) {
     region_->passes.clear();
     region_->reads.clear();
     region_->writes.clear();
+    region_->offers.clear();
 }
 
 void RegionTraceWriter::beginPass(std::uint32_t patch) {
-    region_->passes.push_back(
-        {patch, std::uint32_t(region_->reads.size()), std::uint32_t(region_->writes.size())});
+    region_->passes.push_back({patch, std::uint32_t(region_->reads.size()),
+                               std::uint32_t(region_->writes.size()),
+                               std::uint32_t(region_->offers.size())});
 }
 
 void RegionTraceWriter::endPass() {
@@ -72,6 +94,7 @@ void RegionTraceWriter::endPass() {
     sortUnique(region_->writes, pass.writeBegin);
     if (keepEmpty_ || region_->reads.size() > pass.readBegin) return;
     region_->writes.resize(pass.writeBegin);
+    region_->offers.resize(pass.offerBegin);
     region_->passes.pop_back();
 }
 

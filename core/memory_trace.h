@@ -17,9 +17,14 @@
 // sample is kept only in a trace of tiles: the patch method's tile test reads the group's
 // hierarchy whether or not a sample is then tested (a spilled hierarchy's traffic).
 //
+// With transparency a pass also lists, in the order they were made, its offers of a transparent
+// fragment to a sample's layers (rasterizer/common/transparent_layers.h): the sample's number,
+// with kAppended set when the offer added a layer (else it replaced one, merged with one or was
+// dropped). The replay follows each sample's layer count from these.
+//
 // The trace holds no addresses: the surface layout is the memory model's, so one trace serves
 // every layout and cache size a hardware file or an `explore` grid describes. It takes 4 bytes
-// per sample read or written by a pass, and 12 per pass.
+// per sample read or written by a pass and per offer, and 16 per pass.
 
 #include <cstddef>
 #include <cstdint>
@@ -32,12 +37,16 @@ struct TracedPass {
     std::uint32_t patch = 0;       // the patch the pass's work is charged to
     std::uint32_t readBegin = 0;   // into RegionTrace::reads
     std::uint32_t writeBegin = 0;  // into RegionTrace::writes
+    std::uint32_t offerBegin = 0;  // into RegionTrace::offers
 };
+
+// An offer's flag: it added a layer to the sample.
+inline constexpr std::uint32_t kAppended = 1u << 31;
 
 struct RegionTrace {
     int x0 = 0, y0 = 0, stride = 0;  // corner and width in pixels
     std::vector<TracedPass> passes;
-    std::vector<std::uint32_t> reads, writes;
+    std::vector<std::uint32_t> reads, writes, offers;
 };
 
 class MemoryTrace {
@@ -50,6 +59,9 @@ class MemoryTrace {
     int width() const { return width_; }
     int height() const { return height_; }
     int samplesPerPixel() const { return spp_; }
+    // Layers a sample keeps with transparency (the render's --max-layers); 0: no transparency.
+    int layerSlots() const { return layerSlots_; }
+    void setLayerSlots(int slots) { layerSlots_ = slots; }
 
     std::size_t regionCount() const { return regions_.size(); }
     RegionTrace& region(std::size_t index) { return regions_[index]; }
@@ -57,10 +69,13 @@ class MemoryTrace {
 
     std::span<const std::uint32_t> reads(const RegionTrace& r, std::size_t pass) const;
     std::span<const std::uint32_t> writes(const RegionTrace& r, std::size_t pass) const;
+    std::span<const std::uint32_t> offers(const RegionTrace& r, std::size_t pass) const;
 
     // Sums over every pass, for tests and reports.
     std::uint64_t samplesRead() const;
     std::uint64_t samplesWritten() const;
+    std::uint64_t fragmentsOffered() const;
+    std::uint64_t layersAppended() const;
     std::uint64_t bytes() const;  // what the trace holds
 
   private:
@@ -72,7 +87,7 @@ class MemoryTrace {
         r.y0 = y0;
         r.stride = stride;
     }
-    int width_, height_, spp_;
+    int width_, height_, spp_, layerSlots_ = 0;
     std::vector<RegionTrace> regions_;
 };
 
@@ -88,6 +103,9 @@ class RegionTraceWriter {
     void beginPass(std::uint32_t patch);
     void read(std::size_t bufferIndex) { region_->reads.push_back(local(bufferIndex)); }
     void wrote(std::size_t bufferIndex) { region_->writes.push_back(local(bufferIndex)); }
+    void offered(std::size_t bufferIndex, bool appended) {
+        region_->offers.push_back(local(bufferIndex) | (appended ? kAppended : 0u));
+    }
     // Sorts the pass's lists and drops repeats; keeps the pass if it read a sample (or always,
     // with keepEmptyPasses).
     void endPass();

@@ -133,14 +133,21 @@ TEST(HardwareConfig, TheMemorySectionIsReadAndOptional) {
         EXPECT_EQ(m.stages[std::size_t(s)].throughput, d.stages[std::size_t(s)].throughput);
 }
 
-// The vertex input cache may be left out: ATTILA's 32 lines at the memory's line size, 4-way.
-TEST(HardwareConfig, AMemorySectionWithoutAVertexInputCacheGetsATTILAs) {
+// The vertex input cache may be left out (ATTILA's 32 lines at the memory's line size, 4-way),
+// and the layer cache (the visibility cache's geometry).
+TEST(HardwareConfig, AMemorySectionWithoutTheInputAndLayerCachesGetsDefaults) {
     nlohmann::json file =
         nlohmann::json::parse(readTextFile(test::sourcePath("pipeline/hw/memory.json")));
     file["memory"]["caches"].erase("vertex_input");
+    file["memory"]["caches"].erase("layers");
     for (const char* cache : {"depth", "visibility", "llc"})
         file["memory"]["caches"][cache]["line_bytes"] = 128;
+    file["memory"]["caches"]["visibility"]["size_bytes"] = 32768;
     const HardwareConfig c = parseHardwareConfig(file.dump(), "hw.json");
+    const CacheConfig& layers = c.memory->cache(CacheClient::Layers);
+    EXPECT_EQ(layers.geometry.sizeBytes, 32768u);
+    EXPECT_EQ(layers.geometry.lineBytes, 128u);
+    EXPECT_EQ(layers.linesPerClock, c.memory->cache(CacheClient::Visibility).linesPerClock);
     const CacheConfig& input = c.memory->cache(CacheClient::VertexInput);
     EXPECT_EQ(input.geometry.sizeBytes, 32u * 128);
     EXPECT_EQ(input.geometry.lineBytes, 128u);

@@ -21,7 +21,8 @@ namespace {
 // A full-screen quad: one bilinear face 5 units in front of the camera, far wider than the view,
 // nothing moving and no lens, so every sample is z-tested and written exactly once. With
 // `inView` false the quad lies behind the camera: an empty frame.
-SceneDesc fullScreenQuad(int width, int height, int spp, bool inView = true) {
+SceneDesc fullScreenQuad(int width, int height, int spp, bool inView = true,
+                         float opacity = 1.0f) {
     const std::string cage = test::temporaryDirectory() + "/bilinear_quad.obj";
     std::ofstream(cage) << "v -40 -40 0\nv 40 -40 0\nv 40 40 0\nv -40 40 0\nf 1 2 3 4\n";
     const std::string film = "{\"width\": " + std::to_string(width) +
@@ -33,14 +34,17 @@ SceneDesc fullScreenQuad(int width, int height, int spp, bool inView = true) {
             "film": )" +
         film + R"(, "tessellation": {"partitioning": "integer", "factor": 4},
             "objects": [{"cage": ")" +
-        cage + R"(", "open": {"translate": [0, 0, )" + z + "]}}]}";
+        cage + R"(", "material": {"opacity": )" + std::to_string(opacity) +
+        R"(}, "open": {"translate": [0, 0, )" + z + "]}}]}";
     return parseScene(text, "quad.json", "");
 }
 
-RenderResult renderTraced(const SceneDesc& scene, int threads = 1, const char* method = "patch") {
+RenderResult renderTraced(const SceneDesc& scene, int threads = 1, const char* method = "patch",
+                          int maxLayers = 16) {
     RenderOptions options;
     options.method = &methodNamed(method);
     options.threads = threads;
+    options.maxLayers = maxLayers;
     options.memoryTrace = true;
     CounterRegistry::instance().reset();
     return renderScene(scene, options);
@@ -170,6 +174,67 @@ TEST(MemoryModel, TheBoundingMethodsTracesAreTheirTestsAndHits) {
         EXPECT_EQ(a.dramWriteBytes, b.dramWriteBytes) << name;
         EXPECT_GT(a.requested(MemoryClass::DepthReads), 0u) << name;
     }
+}
+
+// A transparent full-screen quad: every sample gets one layer. Offers beyond one a sample are a
+// ray through an edge two triangles share (merged: one surface). Each offer reads the sample's
+// header and its layers so far and writes a layer, and the header when it adds one; the resolve
+// reads each sample's header and its one layer. With an LLC that holds the frame, DRAM receives
+// each sample's header, the line of its block that holds its layer, and the image.
+TEST(MemoryModel, TransparentLayersAreChargedOfferByOffer) {
+    const int w = 32, h = 24, spp = 4;
+    const std::uint64_t samples = std::uint64_t(w) * h * spp, pixels = std::uint64_t(w) * h;
+    for (const auto& [name, bounding] :
+         {std::pair{"patch", Bounding::Interleaved}, {"triangle-bbox", Bounding::TriangleBBox},
+          {"interval", Bounding::Interval}}) {
+        const RenderResult r = renderTraced(fullScreenQuad(w, h, spp, true, 0.5f), 1, name);
+        const MemoryTrace& t = *r.memoryTrace;
+        const CounterValues counts = CounterRegistry::instance().snapshot();
+        const std::int64_t fragments = std::string(name) == "patch"
+                                           ? counts[rasterCounters().transparentFragments]
+                                           : counts[boundingCounters(bounding).transparentFragments];
+        EXPECT_EQ(t.layerSlots(), 16) << name;
+        EXPECT_EQ(std::int64_t(t.fragmentsOffered()), fragments) << name;
+        EXPECT_EQ(t.layersAppended(), samples) << name;
+        const std::uint64_t offers = t.fragmentsOffered();
+        const MemoryReport m = replay(r, cachesOf(4096, 4u << 20));
+        EXPECT_EQ(m.requested(MemoryClass::LayerWrites), offers * 32 + samples * 4) << name;
+        EXPECT_EQ(m.requested(MemoryClass::LayerReads), offers * 4 + (offers - samples) * 32)
+            << name;
+        EXPECT_EQ(m.requested(MemoryClass::ResolveReads), samples * (32 + 4 + 32)) << name;
+        EXPECT_EQ(m.requested(MemoryClass::DepthWrites), 0u) << name;
+        EXPECT_EQ(m.dramReadBytes, 0u) << name;
+        EXPECT_EQ(m.dramWriteBytes, samples * 64 + samples * 4 + pixels * 8) << name;
+        EXPECT_GT(m.caches[std::size_t(CacheClient::Layers)].reads, 0u) << name;
+    }
+}
+
+// The transparency scene with 1 layer a sample: offers overflow, yet a sample keeps as many
+// layers as were added to it, which the resolve reads back; the same on any thread count.
+TEST(MemoryModel, LayersThatOverflowAreReadBackAsKeptOnAnyThreadCount) {
+    SceneDesc scene = readSceneFile(test::sourcePath("scenes/transparency.json"));
+    scene.film.width = 64;
+    scene.film.height = 48;
+    const RenderResult one = renderTraced(scene, 1, "patch", 1);
+    const CounterValues counts = CounterRegistry::instance().snapshot();
+    EXPECT_GT(counts[rasterCounters().transparentOverflow], 0);
+    const MemoryTrace& t = *one.memoryTrace;
+    EXPECT_EQ(std::int64_t(t.fragmentsOffered()), counts[rasterCounters().transparentFragments]);
+    const std::uint64_t samples = 64u * 48 * std::uint64_t(scene.film.samplesPerPixel);
+    const MemoryConfig m = cachesOf(4096, 65536);
+    const MemoryReport a = replay(one, m);
+    EXPECT_EQ(a.requested(MemoryClass::ResolveReads),
+              samples * (32 + 4) + t.layersAppended() * 32);
+    const RenderResult two = renderTraced(scene, 2, "patch", 1);
+    EXPECT_EQ(two.memoryTrace->layersAppended(), t.layersAppended());
+    const MemoryReport b = replay(two, m);
+    EXPECT_EQ(a.requestedBytes, b.requestedBytes);
+    EXPECT_EQ(a.dramReadBytes, b.dramReadBytes);
+    EXPECT_EQ(a.dramWriteBytes, b.dramWriteBytes);
+    const CacheStats &la = a.caches[std::size_t(CacheClient::Layers)],
+                     &lb = b.caches[std::size_t(CacheClient::Layers)];
+    EXPECT_EQ(la.hits(), lb.hits());
+    EXPECT_EQ(la.writebacks, lb.writebacks);
 }
 
 // With depth compression the depth surface's lines move at their block's compressed size; the

@@ -152,7 +152,10 @@ RenderResult renderScene(const SceneDesc& scene, const RenderOptions& options) {
     if (options.memoryTrace) {
         result.memoryTrace = method.makeMemoryTrace(scene);
         result.sampleSet = samples;  // where the samples lie, for depth compression
-        if (result.memoryTrace) result.controlPointFetch = controlPointFetch(frontEnd);
+        if (result.memoryTrace) {
+            result.controlPointFetch = controlPointFetch(frontEnd);
+            if (result.transparent) result.memoryTrace->setLayerSlots(options.maxLayers);
+        }
     }
     const FrameInputs in{&scene,
                          &options,

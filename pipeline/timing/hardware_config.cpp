@@ -141,6 +141,10 @@ MemoryConfig readMemory(ObjectReader r) {
             m.caches[std::size_t(c)] = defaultVertexInputCache(m.lineBytes());
             continue;
         }
+        if (!cache && CacheClient(c) == CacheClient::Layers) {  // like the visibility cache
+            m.caches[std::size_t(c)] = m.cache(CacheClient::Visibility);
+            continue;
+        }
         if (!cache) caches->fail(caches->fieldName(name), "missing cache");
         m.caches[std::size_t(c)] = readCache(*cache);
         if (m.caches[std::size_t(c)].geometry.lineBytes != m.lineBytes())
@@ -247,6 +251,8 @@ const char* cacheClientName(CacheClient c) {
             return "visibility";
         case CacheClient::VertexInput:
             return "vertex_input";
+        case CacheClient::Layers:
+            return "layers";
         case CacheClient::LastLevel:
             return "llc";
     }
@@ -261,6 +267,8 @@ const char* cacheClientTitle(CacheClient c) {
             return "visibility cache";
         case CacheClient::VertexInput:
             return "vertex input cache";
+        case CacheClient::Layers:
+            return "layer cache";
         case CacheClient::LastLevel:
             return "last-level cache";
     }

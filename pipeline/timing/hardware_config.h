@@ -27,8 +27,8 @@ struct StageConfig {
 
 // The caches of the memory system, each a client of the last-level cache but the LLC itself
 // (always the last).
-enum class CacheClient : std::uint8_t { Depth, Visibility, VertexInput, LastLevel };
-inline constexpr int kCacheClients = 4;
+enum class CacheClient : std::uint8_t { Depth, Visibility, VertexInput, Layers, LastLevel };
+inline constexpr int kCacheClients = 5;
 const char* cacheClientName(CacheClient c);   // its key in the hardware file: "depth", ...
 const char* cacheClientTitle(CacheClient c);  // in reports: "depth cache", ...
 
@@ -38,8 +38,8 @@ struct CacheConfig {
 };
 
 // The memory system (docs/HARDWARE.md, "Memory"): per-sample surfaces in a tiled layout, a
-// depth and a visibility cache and the input assembler's vertex input cache in front of a shared
-// last-level cache, and DRAM.
+// depth and a visibility cache, the input assembler's vertex input cache and the transparent
+// layers' cache in front of a shared last-level cache, and DRAM.
 struct MemoryConfig {
     int surfaceTile = 8;  // pixels per side of a layout block of the per-sample surfaces
     std::array<CacheConfig, kCacheClients> caches;

@@ -32,14 +32,15 @@ class MemorySystem {
   public:
     // `depthScale`: per depth block (of `depthBlockBytes`, from address 0), its compressed size
     // over its uncompressed one (empty: uncompressed).
-    static_assert(kCacheClients == 4, "a CacheModel per client below");
+    static_assert(kCacheClients == 5, "a CacheModel per client below");
     MemorySystem(const MemoryConfig& config, std::uint64_t endAddress, std::size_t patchCount,
                  const std::vector<double>& depthScale, std::uint64_t depthBlockBytes)
         : depthScale_(depthScale),
           depthBlockBytes_(depthBlockBytes),
           line_(config.lineBytes()),
           caches_{CacheModel(config.caches[0].geometry), CacheModel(config.caches[1].geometry),
-                  CacheModel(config.caches[2].geometry), CacheModel(config.caches[3].geometry)},
+                  CacheModel(config.caches[2].geometry), CacheModel(config.caches[3].geometry),
+                  CacheModel(config.caches[4].geometry)},
           inDram_((endAddress / line_ + 64) / 64, 0) {
         report_.patches.resize(patchCount);
     }
@@ -129,14 +130,77 @@ class MemorySystem {
     std::vector<std::uint64_t> inDram_;  // per line: written to DRAM this frame (else cleared)
     using LastLines = std::array<std::array<std::uint64_t, 2>, kCacheClients>;
     static constexpr LastLines kNoLast{
-        {{kNone, kNone}, {kNone, kNone}, {kNone, kNone}, {kNone, kNone}}};
+        {{kNone, kNone}, {kNone, kNone}, {kNone, kNone}, {kNone, kNone}, {kNone, kNone}}};
     LastLines last_ = kNoLast;
     std::uint64_t lastStream_ = kNone;
     MemoryReport report_;
 };
 
+// The transparent layers (see the essay in memory_model.h): a header per sample, then blocks of
+// `slots` layers given out as samples get their first layer.
+class LayerBuffer {
+  public:
+    LayerBuffer(const MemoryTrace& trace, const SurfaceLayout& layout, std::uint64_t base)
+        : layout_(layout),
+          slots_(std::uint64_t(trace.layerSlots())),
+          headerBase_(base),
+          blockBase_(alignUp(base + (slots_ ? layout.samples() * kLayerHeaderBytes : 0))),
+          // At most a block per offer (a valid trace: per append), so every address lies below.
+          end_(alignUp(blockBase_ + trace.fragmentsOffered() * slots_ * kLayerBytes)) {
+        if (slots_ == 0) return;
+        count_.assign(layout.samples(), 0);
+        block_.assign(layout.samples(), 0);
+    }
+    std::uint64_t endAddress() const { return end_; }
+
+    // An offer to sample (x, y, s), from the trace.
+    void offer(int x, int y, int s, bool appended, std::size_t patch, MemorySystem& memory) {
+        const std::uint64_t sample = layout_.sampleIndex(x, y, s);
+        const std::uint64_t layers = count_[sample];
+        // A full sample cannot add (a frame replayed again, FrameMemoryInputs::frames); an empty
+        // one only can.
+        appended = layers == 0 || (appended && layers < slots_);
+        if (layers == 0) block_[sample] = blocks_++;
+        const std::uint64_t header = headerBase_ + sample * kLayerHeaderBytes;
+        lines(header, kLayerHeaderBytes, false, patch, memory);
+        lines(blockOf(sample), layers * kLayerBytes, false, patch, memory);
+        const std::uint64_t slot = appended ? layers : layers - 1;
+        lines(blockOf(sample) + slot * kLayerBytes, kLayerBytes, true, patch, memory);
+        memory.request(MemoryClass::LayerReads, kLayerHeaderBytes + layers * kLayerBytes);
+        memory.request(MemoryClass::LayerWrites, kLayerBytes + (appended ? kLayerHeaderBytes : 0));
+        if (!appended) return;
+        lines(header, kLayerHeaderBytes, true, patch, memory);
+        ++count_[sample];
+    }
+    // The resolve's reads of sample (x, y, s)'s header and layers; returns the bytes.
+    std::uint64_t resolve(int x, int y, int s, std::size_t patch, MemorySystem& memory) const {
+        if (slots_ == 0) return 0;
+        const std::uint64_t sample = layout_.sampleIndex(x, y, s);
+        const std::uint64_t bytes = std::uint64_t(count_[sample]) * kLayerBytes;
+        lines(headerBase_ + sample * kLayerHeaderBytes, kLayerHeaderBytes, false, patch, memory);
+        lines(blockOf(sample), bytes, false, patch, memory);
+        return kLayerHeaderBytes + bytes;
+    }
+
+  private:
+    std::uint64_t blockOf(std::uint64_t sample) const {
+        return blockBase_ + std::uint64_t(block_[sample]) * slots_ * kLayerBytes;
+    }
+    static void lines(std::uint64_t at, std::uint64_t bytes, bool write, std::size_t patch,
+                      MemorySystem& memory) {
+        if (bytes == 0) return;
+        for (std::uint64_t line = memory.lineOf(at); line <= memory.lineOf(at + bytes - 1); ++line)
+            memory.access(CacheClient::Layers, line, write, patch);
+    }
+    const SurfaceLayout& layout_;
+    std::uint64_t slots_, headerBase_, blockBase_, end_;
+    std::vector<std::uint8_t> count_;   // per sample, its layers so far
+    std::vector<std::uint32_t> block_;  // per sample with layers, its block
+    std::uint32_t blocks_ = 0;
+};
+
 // Hierarchy bytes beyond the scratch budget, per patch, each at its own address after the
-// image.
+// layers.
 class Spills {
   public:
     Spills(const std::vector<std::uint64_t>& bytes, std::uint64_t base) : bytes_(bytes) {
@@ -224,7 +288,7 @@ class InputBuffers {
 };
 
 void replayPasses(const MemoryTrace& trace, const SurfaceLayout& layout, const Spills& spills,
-                  MemorySystem& memory) {
+                  LayerBuffer& layers, MemorySystem& memory) {
     const auto spp = std::size_t(trace.samplesPerPixel());
     for (std::size_t r = 0; r < trace.regionCount(); ++r) {
         const RegionTrace& region = trace.region(r);
@@ -258,13 +322,17 @@ void replayPasses(const MemoryTrace& trace, const SurfaceLayout& layout, const S
             memory.request(MemoryClass::DepthReads, reads.size() * kDepthBytes);
             memory.request(MemoryClass::DepthWrites, writes.size() * kDepthBytes);
             memory.request(MemoryClass::VisibilityWrites, writes.size() * kVisibilityBytes);
+            for (std::uint32_t offer : trace.offers(region, p)) {
+                const auto [x, y, s] = at(offer & ~kAppended);
+                layers.offer(x, y, s, (offer & kAppended) != 0, patch, memory);
+            }
         }
     }
 }
 
 // Every sample's record read, pixel by pixel, and the image written.
-void replayResolve(const MemoryTrace& trace, const SurfaceLayout& layout, std::size_t patch,
-                   MemorySystem& memory) {
+void replayResolve(const MemoryTrace& trace, const SurfaceLayout& layout,
+                   const LayerBuffer& layers, std::size_t patch, MemorySystem& memory) {
     const int spp = trace.samplesPerPixel();
     memory.newPass();
     const auto lines = [&](CacheClient client, std::uint64_t begin, std::uint64_t bytes) {
@@ -272,17 +340,19 @@ void replayResolve(const MemoryTrace& trace, const SurfaceLayout& layout, std::s
              ++line)
             memory.access(client, line, false, patch);
     };
+    std::uint64_t layerBytes = 0;
     for (int y = 0; y < trace.height(); ++y)
         for (int x = 0; x < trace.width(); ++x) {
             lines(CacheClient::Depth, layout.depthAddress(x, y, 0),
                   std::uint64_t(spp) * kDepthBytes);
             lines(CacheClient::Visibility, layout.visibilityAddress(x, y, 0),
                   std::uint64_t(spp) * kVisibilityBytes);
+            for (int s = 0; s < spp; ++s) layerBytes += layers.resolve(x, y, s, patch, memory);
             memory.streamWrite(memory.lineOf(layout.imageAddress(x, y)), patch);
         }
     const auto pixels = std::uint64_t(trace.width()) * std::uint64_t(trace.height());
     memory.request(MemoryClass::ResolveReads,
-                   pixels * std::uint64_t(spp) * (kDepthBytes + kVisibilityBytes));
+                   pixels * std::uint64_t(spp) * (kDepthBytes + kVisibilityBytes) + layerBytes);
     memory.request(MemoryClass::ImageWrites, pixels * kImagePixelBytes);
 }
 
@@ -333,7 +403,8 @@ MemoryReport simulateMemory(const MemoryTrace& trace, const MemoryConfig& config
                             const FrameMemoryInputs& frame) {
     const SurfaceLayout layout(trace.width(), trace.height(), trace.samplesPerPixel(),
                                config.surfaceTile);
-    const Spills spills(frame.spillBytes, alignUp(layout.endAddress()));
+    LayerBuffer layers(trace, layout, alignUp(layout.endAddress()));
+    const Spills spills(frame.spillBytes, layers.endAddress());
     const std::size_t patches = std::max(frame.patchCount, frame.lastPatch + 1);
     const std::uint64_t depthBlockBytes = std::uint64_t(config.surfaceTile) *
                                           std::uint64_t(config.surfaceTile) *
@@ -347,8 +418,8 @@ MemoryReport simulateMemory(const MemoryTrace& trace, const MemoryConfig& config
         inputs.read(p, memory);
         spills.write(p, memory);
     }
-    for (int f = 0; f < frame.frames; ++f) replayPasses(trace, layout, spills, memory);
-    replayResolve(trace, layout, frame.lastPatch, memory);
+    for (int f = 0; f < frame.frames; ++f) replayPasses(trace, layout, spills, layers, memory);
+    replayResolve(trace, layout, layers, frame.lastPatch, memory);
     memory.writeBack(frame.lastPatch);
     MemoryReport report = memory.finish();
     report.patches.resize(frame.patchCount);

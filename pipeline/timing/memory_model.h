@@ -33,10 +33,19 @@
 // so the cache and the LLC catch the repeats. These buffers are the scene's, in DRAM before the
 // frame starts.
 //
+// With transparency (a trace with layer slots) the layers follow the image: a header per
+// sample (4 bytes: its block and its layer count, in the per-sample surfaces' tiled order), then
+// blocks of K layers of 32 bytes (a layer fragment: the record and its object), given out in the
+// order samples first get a layer. An offer reads the sample's header and its layers so far
+// (the merge and the farthest-layer search of rasterizer/common/transparent_layers.h) and writes
+// one layer, and the header too when it adds a layer (an upper bound: an offer that merged with
+// or lost to a nearer layer may write nothing). The resolve reads each sample's header and
+// layers. All of it goes through the layer cache.
+//
 // A patch whose hierarchy outgrows the on-chip scratch budget spills the excess: written once
 // through the LLC when the hierarchy is built (before the tiles, in patch order), read again
 // through the LLC by each of the patch's tile passes (all of it: an upper bound, as which nodes a
-// tile test visits is not traced). The spills lie after the image, patch after patch.
+// tile test visits is not traced). The spills lie after the layers, patch after patch.
 
 #include <array>
 #include <cstdint>
@@ -57,24 +66,27 @@ namespace patchsim {
     X(DepthReads, "depth_reads", "z-test reads of a sample's depth (4 bytes)")                \
     X(DepthWrites, "depth_writes", "depth of a nearer hit (4 bytes)")                         \
     X(VisibilityWrites, "visibility_writes", "the rest of its record (28 bytes)")             \
-    X(ResolveReads, "resolve_reads", "the resolve's reads of every sample's record")          \
+    X(ResolveReads, "resolve_reads", "the resolve's reads of every sample's record, layers")  \
     X(ImageWrites, "image_writes", "the final image, 8 bytes a pixel")                        \
     X(SpillWrites, "spill_writes", "hierarchy bytes beyond the scratch budget, written once") \
     X(SpillReads, "spill_reads", "those bytes read again by each of the patch's tile passes")   \
     X(IndexReads, "index_reads", "a patch's control-point indices (4 bytes each)")             \
-    X(ControlPointReads, "control_point_reads", "its control points' cage positions (12 bytes)")
+    X(ControlPointReads, "control_point_reads", "its control points' cage positions (12 bytes)") \
+    X(LayerReads, "layer_reads", "an offer's reads of a sample's layer header and its layers")     \
+    X(LayerWrites, "layer_writes", "an offer's layer written (32 bytes), and header when added")
 
 enum class MemoryClass : std::uint8_t {
 #define PATCHSIM_MEMORY_CLASS_ENUM(name, key, definition) name,
     PATCHSIM_MEMORY_CLASSES(PATCHSIM_MEMORY_CLASS_ENUM)
 #undef PATCHSIM_MEMORY_CLASS_ENUM
 };
-inline constexpr int kMemoryClasses = 9;
+inline constexpr int kMemoryClasses = 11;
 const char* memoryClassName(MemoryClass c);
 const char* memoryClassDefinition(MemoryClass c);
 
 inline constexpr std::uint32_t kDepthBytes = 4, kVisibilityBytes = 28, kImagePixelBytes = 8;
 inline constexpr std::uint32_t kIndexBytes = 4, kControlPointBytes = 12;
+inline constexpr std::uint32_t kLayerHeaderBytes = 4, kLayerBytes = 32;
 
 // What the input assembler fetches for each patch, in patch order: its control points' indices
 // into the scene's vertex buffer (every object's cage vertices, object after object).
@@ -120,6 +132,7 @@ class SurfaceLayout {
                (std::uint64_t(y) * std::uint64_t(width_) + std::uint64_t(x)) * kImagePixelBytes;
     }
     std::uint64_t endAddress() const;
+    std::uint64_t samples() const { return samplesPadded_; }  // with the blocks' padding
 
   private:
     int width_, height_, spp_, tile_, blocksX_;

@@ -665,9 +665,13 @@ class Pass {
                 record.lens = {rays_.lensU[i], rays_.lensV[i]};
                 ++work_.transparentFragments;
                 if (kCount) ++rays_.work[std::size_t(SampleWork::Visible)][i];
-                if (!pass_.transparent->offer(rays_.record[i], pass_.pool,
+                const std::size_t at = rays_.record[i];
+                const int layers = pass_.transparent->count(at);
+                if (!pass_.transparent->offer(at, pass_.pool,
                                               LayerFragment{record, mesh_.objectId}))
                     ++work_.transparentOverflow;
+                if (rays_.trace != nullptr)
+                    rays_.trace->offered(at, pass_.transparent->count(at) > layers);
             }
         }
     }

@@ -241,9 +241,12 @@ class ScreenPass {
             hit.lens = {rays_.lensU[at], rays_.lensV[at]};
             ++work_.transparentFragments;
             if (kCount) ++rays_.work[std::size_t(SampleWork::Visible)][at];
-            if (!pass_.transparent->offer(rays_.record[at], pass_.pool,
-                                          LayerFragment{hit, mesh_.objectId}))
+            const std::size_t sample = rays_.record[at];
+            const int layers = pass_.transparent->count(sample);
+            if (!pass_.transparent->offer(sample, pass_.pool, LayerFragment{hit, mesh_.objectId}))
                 ++work_.transparentOverflow;
+            if (rays_.trace != nullptr)
+                rays_.trace->offered(sample, pass_.transparent->count(sample) > layers);
         } else {
             VisibilityRecord best;
             best.depth = rays_.bestDepth[at];
