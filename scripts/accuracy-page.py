@@ -25,6 +25,9 @@ test suite runs this). Blocks:
              method
   approximate  docs/accuracy/approximate/results.csv: every non-reference method on every blurred
              scene; PSNR against modelled cycles, wall times, and each scene's Pareto front
+  memory     docs/accuracy/memory/with_memory.csv and compute_only.csv: the same sweep with the
+             memory system charged and without, each run's cycles side by side and its DRAM
+             bytes, and the cheapest exact method at each spp either way
 
 Standard library only: it runs where the tests run.
 """
@@ -307,9 +310,38 @@ def approximate_block():
     return "\n".join(out)
 
 
+def memory_block():
+    folder = os.path.join(ROOT, "docs", "accuracy", "memory")
+    charged_path = os.path.join(folder, "with_memory.csv")
+    free_path = os.path.join(folder, "compute_only.csv")
+    charged, free = by_key(read_csv(charged_path)), by_key(read_csv(free_path))
+    out = [source_line(charged_path, free_path), "",
+           "| scene | method | spp | PSNR | cycles, compute only | cycles, memory charged "
+           "| ratio | DRAM bytes |", "|---|---|---|---|---|---|---|---|"]
+    for key in sorted(charged, key=lambda k: (k[0], EXACT.index(k[1]) if k[1] in EXACT
+                                              else len(EXACT), k[1], k[2])):
+        scene, method, spp = key
+        r, f = charged[key], free[key]
+        ratio = float(r["modelled_cycles"]) / float(f["modelled_cycles"])
+        out.append(f"| {scene} | {method} | {spp} | {float(r['psnr']):.1f} | "
+                   f"{mega(f['modelled_cycles'])} | {mega(r['modelled_cycles'])} | "
+                   f"{ratio:.2f} | {float(r['dram_bytes']) / 1e6:.1f} MB |")
+    out += ["", "The cheapest exact method in modelled cycles:", "",
+            "| scene | spp | compute only | memory charged |", "|---|---|---|---|"]
+    for scene, spp in sorted({(k[0], k[2]) for k in charged}):
+        cells = []
+        for runs in (free, charged):
+            exact = [(float(runs[(scene, m, spp)]["modelled_cycles"]), m) for m in EXACT
+                     if (scene, m, spp) in runs]
+            cells.append(min(exact)[1])
+        out.append(f"| {scene} | {spp} | {cells[0]} | {cells[1]} |")
+    return "\n".join(out)
+
+
 BLOCKS = {"settings": settings_block, "crossover": crossover_block,
           "motion-defocus": motion_defocus_block, "blur-levels": blur_levels_block,
-          "cycles": cycles_block, "approximate": approximate_block}
+          "cycles": cycles_block, "approximate": approximate_block,
+          "memory": memory_block}
 
 
 def regenerate(page_text):

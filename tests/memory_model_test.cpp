@@ -21,8 +21,7 @@ namespace {
 // A full-screen quad: one bilinear face 5 units in front of the camera, far wider than the view,
 // nothing moving and no lens, so every sample is z-tested and written exactly once. With
 // `inView` false the quad lies behind the camera: an empty frame.
-SceneDesc fullScreenQuad(int width, int height, int spp, bool inView = true,
-                         float opacity = 1.0f) {
+SceneDesc fullScreenQuad(int width, int height, int spp, bool inView = true, float opacity = 1.0f) {
     const std::string cage = test::temporaryDirectory() + "/bilinear_quad.obj";
     std::ofstream(cage) << "v -40 -40 0\nv 40 -40 0\nv 40 40 0\nv -40 40 0\nf 1 2 3 4\n";
     const std::string film = "{\"width\": " + std::to_string(width) +
@@ -184,15 +183,15 @@ TEST(MemoryModel, TheBoundingMethodsTracesAreTheirTestsAndHits) {
 TEST(MemoryModel, TransparentLayersAreChargedOfferByOffer) {
     const int w = 32, h = 24, spp = 4;
     const std::uint64_t samples = std::uint64_t(w) * h * spp, pixels = std::uint64_t(w) * h;
-    for (const auto& [name, bounding] :
-         {std::pair{"patch", Bounding::Interleaved}, {"triangle-bbox", Bounding::TriangleBBox},
-          {"interval", Bounding::Interval}}) {
+    for (const auto& [name, bounding] : {std::pair{"patch", Bounding::Interleaved},
+                                         {"triangle-bbox", Bounding::TriangleBBox},
+                                         {"interval", Bounding::Interval}}) {
         const RenderResult r = renderTraced(fullScreenQuad(w, h, spp, true, 0.5f), 1, name);
         const MemoryTrace& t = *r.memoryTrace;
         const CounterValues counts = CounterRegistry::instance().snapshot();
-        const std::int64_t fragments = std::string(name) == "patch"
-                                           ? counts[rasterCounters().transparentFragments]
-                                           : counts[boundingCounters(bounding).transparentFragments];
+        const std::int64_t fragments =
+            std::string(name) == "patch" ? counts[rasterCounters().transparentFragments]
+                                         : counts[boundingCounters(bounding).transparentFragments];
         EXPECT_EQ(t.layerSlots(), 16) << name;
         EXPECT_EQ(std::int64_t(t.fragmentsOffered()), fragments) << name;
         EXPECT_EQ(t.layersAppended(), samples) << name;
@@ -223,8 +222,7 @@ TEST(MemoryModel, LayersThatOverflowAreReadBackAsKeptOnAnyThreadCount) {
     const std::uint64_t samples = 64u * 48 * std::uint64_t(scene.film.samplesPerPixel);
     const MemoryConfig m = cachesOf(4096, 65536);
     const MemoryReport a = replay(one, m);
-    EXPECT_EQ(a.requested(MemoryClass::ResolveReads),
-              samples * (32 + 4) + t.layersAppended() * 32);
+    EXPECT_EQ(a.requested(MemoryClass::ResolveReads), samples * (32 + 4) + t.layersAppended() * 32);
     const RenderResult two = renderTraced(scene, 2, "patch", 1);
     EXPECT_EQ(two.memoryTrace->layersAppended(), t.layersAppended());
     const MemoryReport b = replay(two, m);
@@ -389,8 +387,7 @@ TEST(MemoryModel, ARenderedFrameFetchesTheControlPointsTheVertexStageCounts) {
     const CounterValues counts = CounterRegistry::instance().snapshot();
     const ControlPointFetch& fetch = r.controlPointFetch;
     ASSERT_EQ(fetch.patches(), r.patchOps.size());
-    EXPECT_EQ(std::int64_t(fetch.vertices.size()),
-              counts[frontEndCounters().patchControlPoints]);
+    EXPECT_EQ(std::int64_t(fetch.vertices.size()), counts[frontEndCounters().patchControlPoints]);
     for (const std::uint32_t v : fetch.vertices) ASSERT_LT(v, fetch.vertexCount);
     FrameMemoryInputs inputs{r.patchOps.size(), r.patchOps.size() - 1, {}};
     inputs.fetch = &fetch;

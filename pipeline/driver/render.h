@@ -44,7 +44,7 @@ struct RenderResult {
     // The frame's surface traffic (RenderOptions::memoryTrace, methods that record it).
     std::unique_ptr<MemoryTrace> memoryTrace;
     std::optional<SampleGenerator> sampleSet;  // the frame's samples, when the trace is kept
-    ControlPointFetch controlPointFetch;  // what IA reads per patch, when the trace is kept
+    ControlPointFetch controlPointFetch;       // what IA reads per patch, when the trace is kept
 };
 
 RenderResult renderScene(const SceneDesc& scene, const RenderOptions& options);

@@ -260,7 +260,8 @@ class InputBuffers {
           end_(alignUp(vertexBase_ + fetch_.vertexCount * kControlPointBytes)) {}
     std::uint64_t endAddress() const { return end_; }
     void markInDram(MemorySystem& memory) const {
-        if (end_ > indexBase_) memory.markInDram(memory.lineOf(indexBase_), memory.lineOf(end_ - 1));
+        if (end_ > indexBase_)
+            memory.markInDram(memory.lineOf(indexBase_), memory.lineOf(end_ - 1));
     }
     // Patch `p`'s indices, then its control points, through the vertex input cache.
     void read(std::size_t p, MemorySystem& memory) const {
@@ -331,8 +332,8 @@ void replayPasses(const MemoryTrace& trace, const SurfaceLayout& layout, const S
 }
 
 // Every sample's record read, pixel by pixel, and the image written.
-void replayResolve(const MemoryTrace& trace, const SurfaceLayout& layout,
-                   const LayerBuffer& layers, std::size_t patch, MemorySystem& memory) {
+void replayResolve(const MemoryTrace& trace, const SurfaceLayout& layout, const LayerBuffer& layers,
+                   std::size_t patch, MemorySystem& memory) {
     const int spp = trace.samplesPerPixel();
     memory.newPass();
     const auto lines = [&](CacheClient client, std::uint64_t begin, std::uint64_t bytes) {

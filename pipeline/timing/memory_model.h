@@ -62,17 +62,17 @@
 namespace patchsim {
 
 // What each data class asked of the memory system, in bytes (before the caches).
-#define PATCHSIM_MEMORY_CLASSES(X)                                                            \
-    X(DepthReads, "depth_reads", "z-test reads of a sample's depth (4 bytes)")                \
-    X(DepthWrites, "depth_writes", "depth of a nearer hit (4 bytes)")                         \
-    X(VisibilityWrites, "visibility_writes", "the rest of its record (28 bytes)")             \
-    X(ResolveReads, "resolve_reads", "the resolve's reads of every sample's record, layers")  \
-    X(ImageWrites, "image_writes", "the final image, 8 bytes a pixel")                        \
-    X(SpillWrites, "spill_writes", "hierarchy bytes beyond the scratch budget, written once") \
-    X(SpillReads, "spill_reads", "those bytes read again by each of the patch's tile passes")   \
-    X(IndexReads, "index_reads", "a patch's control-point indices (4 bytes each)")             \
+#define PATCHSIM_MEMORY_CLASSES(X)                                                               \
+    X(DepthReads, "depth_reads", "z-test reads of a sample's depth (4 bytes)")                   \
+    X(DepthWrites, "depth_writes", "depth of a nearer hit (4 bytes)")                            \
+    X(VisibilityWrites, "visibility_writes", "the rest of its record (28 bytes)")                \
+    X(ResolveReads, "resolve_reads", "the resolve's reads of every sample's record, layers")     \
+    X(ImageWrites, "image_writes", "the final image, 8 bytes a pixel")                           \
+    X(SpillWrites, "spill_writes", "hierarchy bytes beyond the scratch budget, written once")    \
+    X(SpillReads, "spill_reads", "those bytes read again by each of the patch's tile passes")    \
+    X(IndexReads, "index_reads", "a patch's control-point indices (4 bytes each)")               \
     X(ControlPointReads, "control_point_reads", "its control points' cage positions (12 bytes)") \
-    X(LayerReads, "layer_reads", "an offer's reads of a sample's layer header and its layers")     \
+    X(LayerReads, "layer_reads", "an offer's reads of a sample's layer header and its layers")   \
     X(LayerWrites, "layer_writes", "an offer's layer written (32 bytes), and header when added")
 
 enum class MemoryClass : std::uint8_t {
