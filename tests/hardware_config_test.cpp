@@ -184,6 +184,7 @@ TEST(HardwareConfig, BadMemoryFieldsAreRefusedByName) {
         {R"({"surface_tile": 0})", "memory.surface_tile"},
         {R"({"banks": 4})", "memory.banks: unknown key"},
         {R"({"depth_compression": "zip"})", "memory.depth_compression: expected \"none\""},
+        {R"({"order": "tiles"})", "memory.order: expected \"regions\" or \"patches\""},
         {R"({"caches": {"llc": {"size_bytes": 4294967296}}})",
          "memory.caches.llc.size_bytes: at most 16777216 lines"}};
     for (const auto& [edit, expected] : cases)
@@ -197,6 +198,8 @@ TEST(HardwareConfig, MemoryParametersBySetPath) {
                          "memory.dram.bytes_per_clock");
     setHardwareParameter(c, "memory.caches.depth.size_bytes", 65536, "grid.json", "d");
     setHardwareParameter(c, "memory.caches.llc.replacement", "fifo", "grid.json", "r");
+    setHardwareParameter(c, "memory.order", "patches", "grid.json", "o");
+    EXPECT_EQ(c.memory->order, MemoryOrder::Patches);
     EXPECT_EQ(c.memory->dramBytesPerClock, 8);
     EXPECT_EQ(c.memory->cache(CacheClient::Depth).geometry.sizeBytes, 65536u);
     EXPECT_EQ(c.memory->cache(CacheClient::LastLevel).geometry.replacement, Replacement::Fifo);

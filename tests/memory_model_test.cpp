@@ -235,6 +235,30 @@ TEST(MemoryModel, LayersThatOverflowAreReadBackAsKeptOnAnyThreadCount) {
     EXPECT_EQ(la.writebacks, lb.writebacks);
 }
 
+// The order is a design choice: a patch at a time replays the same passes, so every class asks
+// for the same bytes and each cache sees as many line accesses; only hits and DRAM differ.
+TEST(MemoryModel, APatchAtATimeReplaysTheSamePassesInAnotherOrder) {
+    SceneDesc scene = defaultScene();
+    scene.film.width = 96;
+    scene.film.height = 64;
+    for (const char* method : {"patch", "interval"}) {
+        const RenderResult r = renderTraced(scene, 1, method);
+        MemoryConfig m = cachesOf(4096, 16384);
+        FrameMemoryInputs inputs{r.patchOps.size(), r.patchOps.size() - 1,
+                                 hierarchySpills(r.patchOps, 1024)};
+        inputs.fetch = &r.controlPointFetch;
+        const MemoryReport regions = simulateMemory(*r.memoryTrace, m, inputs);
+        m.order = MemoryOrder::Patches;
+        const MemoryReport patches = simulateMemory(*r.memoryTrace, m, inputs);
+        EXPECT_EQ(regions.requestedBytes, patches.requestedBytes) << method;
+        for (int c = 0; c < kCacheClients - 1; ++c)
+            EXPECT_EQ(regions.caches[std::size_t(c)].reads + regions.caches[std::size_t(c)].writes,
+                      patches.caches[std::size_t(c)].reads + patches.caches[std::size_t(c)].writes)
+                << method << " " << cacheClientName(CacheClient(c));
+        EXPECT_NE(regions.dramBytes(), patches.dramBytes()) << method;
+    }
+}
+
 // With depth compression the depth surface's lines move at their block's compressed size; the
 // visibility surface and the image do not shrink.
 TEST(MemoryModel, CompressedDepthMovesFewerBytesToDram) {

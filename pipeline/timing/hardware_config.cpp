@@ -128,6 +128,12 @@ MemoryConfig readMemory(ObjectReader r) {
         m.surfaceTile = int(checked(*j, kSurfaceTile, r.file(), r.fieldName("surface_tile")));
     if (const Json* j = r.find("fifo_depth"))
         m.fifoDepth = int(checked(*j, kFifoDepth, r.file(), r.fieldName("fifo_depth")));
+    const std::string order = r.string("order", "regions");
+    if (order == "patches")
+        m.order = MemoryOrder::Patches;
+    else if (order != "regions")
+        r.fail(r.fieldName("order"),
+               "expected \"regions\" or \"patches\", found \"" + order + "\"");
     const std::string compression = r.string("depth_compression", "none");
     if (!parseDepthCompression(compression, m.depthCompression))
         r.fail(r.fieldName("depth_compression"),
@@ -180,6 +186,7 @@ Json memoryJson(const MemoryConfig& m) {
     }
     return {{"surface_tile", m.surfaceTile},
             {"fifo_depth", m.fifoDepth},
+            {"order", memoryOrderName(m.order)},
             {"depth_compression", depthCompressionName(m.depthCompression)},
             {"caches", caches},
             {"dram", {{"bytes_per_clock", m.dramBytesPerClock}, {"latency", m.dramLatency}}}};
@@ -241,6 +248,10 @@ void setHardwareParameters(HardwareConfig& c, const std::vector<HardwareParamete
         throw InputError(source, culprit->field,
                          culprit->path == e.field() ? e.message() : e.field() + ": " + e.message());
     }
+}
+
+const char* memoryOrderName(MemoryOrder o) {
+    return o == MemoryOrder::Patches ? "patches" : "regions";
 }
 
 const char* cacheClientName(CacheClient c) {

@@ -32,6 +32,14 @@ inline constexpr int kCacheClients = 5;
 const char* cacheClientName(CacheClient c);   // its key in the hardware file: "depth", ...
 const char* cacheClientTitle(CacheClient c);  // in reports: "depth cache", ...
 
+// The order the modelled rasterizer works a frame's passes in (docs/HARDWARE.md, "Memory"):
+// `Regions`, a screen region at a time, as the functional rasterizer does (the patch method's
+// tiles, the bounding methods' bands), each region's passes in patch order; `Patches`, a patch at
+// a time across the screen, as an immediate-mode rasterizer that holds one patch's hierarchy in
+// its scratch does.
+enum class MemoryOrder : std::uint8_t { Regions, Patches };
+const char* memoryOrderName(MemoryOrder o);  // "regions", "patches"
+
 struct CacheConfig {
     CacheGeometry geometry;
     double linesPerClock = 1;  // line accesses the cache serves per clock
@@ -42,6 +50,7 @@ struct CacheConfig {
 // layers' cache in front of a shared last-level cache, and DRAM.
 struct MemoryConfig {
     int surfaceTile = 8;  // pixels per side of a layout block of the per-sample surfaces
+    MemoryOrder order = MemoryOrder::Regions;
     std::array<CacheConfig, kCacheClients> caches;
     double dramBytesPerClock = 32;
     double dramLatency = 200;  // cycles from a patch's last memory request to its data

@@ -1,5 +1,6 @@
 #include "pipeline/timing/memory_model.h"
 
+#include <algorithm>
 #include <bit>
 #include <cmath>
 #include <cstdio>
@@ -288,47 +289,83 @@ class InputBuffers {
     std::uint64_t indexBase_, vertexBase_, end_;
 };
 
-void replayPasses(const MemoryTrace& trace, const SurfaceLayout& layout, const Spills& spills,
-                  LayerBuffer& layers, MemorySystem& memory) {
+// One pass of the trace: its reads, writes and offers through the caches.
+void replayPass(const MemoryTrace& trace, const SurfaceLayout& layout, const Spills& spills,
+                LayerBuffer& layers, std::size_t r, std::size_t p, MemorySystem& memory) {
     const auto spp = std::size_t(trace.samplesPerPixel());
-    for (std::size_t r = 0; r < trace.regionCount(); ++r) {
-        const RegionTrace& region = trace.region(r);
-        const auto stride = std::size_t(region.stride);
-        // A sample's number in its region, in screen coordinates (core/memory_trace.h).
-        const auto at = [&](std::uint32_t local) {
-            const std::size_t pixel = local / spp;
-            return std::array<int, 3>{region.x0 + int(pixel % stride),
-                                      region.y0 + int(pixel / stride), int(local % spp)};
-        };
-        for (std::size_t p = 0; p < region.passes.size(); ++p) {
-            const std::size_t patch = region.passes[p].patch;
-            memory.newPass();
-            spills.read(patch, memory);
-            const std::span<const std::uint32_t> reads = trace.reads(region, p);
-            const std::span<const std::uint32_t> writes = trace.writes(region, p);
-            for (std::uint32_t local : reads) {
-                const auto [x, y, s] = at(local);
-                memory.access(CacheClient::Depth, memory.lineOf(layout.depthAddress(x, y, s)),
-                              false, patch);
-            }
-            for (std::uint32_t local : writes) {
-                const auto [x, y, s] = at(local);
-                memory.access(CacheClient::Depth, memory.lineOf(layout.depthAddress(x, y, s)), true,
-                              patch);
-                const std::uint64_t v = layout.visibilityAddress(x, y, s);
-                for (std::uint64_t line = memory.lineOf(v);
-                     line <= memory.lineOf(v + kVisibilityBytes - 1); ++line)
-                    memory.access(CacheClient::Visibility, line, true, patch);
-            }
-            memory.request(MemoryClass::DepthReads, reads.size() * kDepthBytes);
-            memory.request(MemoryClass::DepthWrites, writes.size() * kDepthBytes);
-            memory.request(MemoryClass::VisibilityWrites, writes.size() * kVisibilityBytes);
-            for (std::uint32_t offer : trace.offers(region, p)) {
-                const auto [x, y, s] = at(offer & ~kAppended);
-                layers.offer(x, y, s, (offer & kAppended) != 0, patch, memory);
-            }
-        }
+    const RegionTrace& region = trace.region(r);
+    const auto stride = std::size_t(region.stride);
+    // A sample's number in its region, in screen coordinates (core/memory_trace.h).
+    const auto at = [&](std::uint32_t local) {
+        const std::size_t pixel = local / spp;
+        return std::array<int, 3>{region.x0 + int(pixel % stride), region.y0 + int(pixel / stride),
+                                  int(local % spp)};
+    };
+    const std::size_t patch = region.passes[p].patch;
+    memory.newPass();
+    spills.read(patch, memory);
+    const std::span<const std::uint32_t> reads = trace.reads(region, p);
+    const std::span<const std::uint32_t> writes = trace.writes(region, p);
+    for (std::uint32_t local : reads) {
+        const auto [x, y, s] = at(local);
+        memory.access(CacheClient::Depth, memory.lineOf(layout.depthAddress(x, y, s)), false,
+                      patch);
     }
+    for (std::uint32_t local : writes) {
+        const auto [x, y, s] = at(local);
+        memory.access(CacheClient::Depth, memory.lineOf(layout.depthAddress(x, y, s)), true, patch);
+        const std::uint64_t v = layout.visibilityAddress(x, y, s);
+        for (std::uint64_t line = memory.lineOf(v); line <= memory.lineOf(v + kVisibilityBytes - 1);
+             ++line)
+            memory.access(CacheClient::Visibility, line, true, patch);
+    }
+    memory.request(MemoryClass::DepthReads, reads.size() * kDepthBytes);
+    memory.request(MemoryClass::DepthWrites, writes.size() * kDepthBytes);
+    memory.request(MemoryClass::VisibilityWrites, writes.size() * kVisibilityBytes);
+    for (std::uint32_t offer : trace.offers(region, p)) {
+        const auto [x, y, s] = at(offer & ~kAppended);
+        layers.offer(x, y, s, (offer & kAppended) != 0, patch, memory);
+    }
+}
+
+// The front end's traffic and every pass, in the order of `order` (MemoryOrder). `frontEnd`:
+// fetch each patch and write its spill too (not in the repeats of a warm frame).
+void replayPasses(const MemoryTrace& trace, const SurfaceLayout& layout, const Spills& spills,
+                  const InputBuffers& inputs, LayerBuffer& layers, MemoryOrder order,
+                  std::size_t patches, bool frontEnd, MemorySystem& memory) {
+    const auto runFrontEnd = [&](std::size_t p) {
+        if (!frontEnd) return;
+        inputs.read(p, memory);
+        spills.write(p, memory);
+    };
+    if (order == MemoryOrder::Regions) {
+        // Sort-middle: the front end runs ahead of the regions.
+        for (std::size_t p = 0; p < patches; ++p) runFrontEnd(p);
+        for (std::size_t r = 0; r < trace.regionCount(); ++r)
+            for (std::size_t p = 0; p < trace.region(r).passes.size(); ++p)
+                replayPass(trace, layout, spills, layers, r, p, memory);
+        return;
+    }
+    // A patch at a time: fetched, its hierarchy built, then its passes in region order (the
+    // screen's tiles row-major, or its bands top to bottom).
+    struct PassAt {
+        std::uint32_t patch, region, pass;
+    };
+    std::vector<PassAt> passes;
+    for (std::size_t r = 0; r < trace.regionCount(); ++r)
+        for (std::size_t p = 0; p < trace.region(r).passes.size(); ++p)
+            passes.push_back({trace.region(r).passes[p].patch, std::uint32_t(r), std::uint32_t(p)});
+    std::stable_sort(passes.begin(), passes.end(),
+                     [](const PassAt& a, const PassAt& b) { return a.patch < b.patch; });
+    auto next = passes.begin();
+    for (std::size_t p = 0; p < patches; ++p) {
+        runFrontEnd(p);
+        for (; next != passes.end() && next->patch == p; ++next)
+            replayPass(trace, layout, spills, layers, next->region, next->pass, memory);
+    }
+    // A pass charged to a patch past the frame's count (a hand-made trace) still runs.
+    for (; next != passes.end(); ++next)
+        replayPass(trace, layout, spills, layers, next->region, next->pass, memory);
 }
 
 // Every sample's record read, pixel by pixel, and the image written.
@@ -413,13 +450,8 @@ MemoryReport simulateMemory(const MemoryTrace& trace, const MemoryConfig& config
     const InputBuffers inputs(frame.fetch, spills.endAddress());
     MemorySystem memory(config, inputs.endAddress(), patches, frame.depthScale, depthBlockBytes);
     inputs.markInDram(memory);
-    // The front end runs ahead of the tiles (sort-middle): each patch fetched, then its hierarchy
-    // built.
-    for (std::size_t p = 0; p < patches; ++p) {
-        inputs.read(p, memory);
-        spills.write(p, memory);
-    }
-    for (int f = 0; f < frame.frames; ++f) replayPasses(trace, layout, spills, layers, memory);
+    for (int f = 0; f < frame.frames; ++f)
+        replayPasses(trace, layout, spills, inputs, layers, config.order, patches, f == 0, memory);
     replayResolve(trace, layout, layers, frame.lastPatch, memory);
     memory.writeBack(frame.lastPatch);
     MemoryReport report = memory.finish();
