@@ -666,7 +666,7 @@ class Pass {
                 ++work_.transparentFragments;
                 if (kCount) ++rays_.work[std::size_t(SampleWork::Visible)][i];
                 const std::size_t at = rays_.record[i];
-                const int layers = pass_.transparent->count(at);
+                const int layers = rays_.trace != nullptr ? pass_.transparent->count(at) : 0;
                 if (!pass_.transparent->offer(at, pass_.pool,
                                               LayerFragment{record, mesh_.objectId}))
                     ++work_.transparentOverflow;

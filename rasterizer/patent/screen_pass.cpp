@@ -242,7 +242,7 @@ class ScreenPass {
             ++work_.transparentFragments;
             if (kCount) ++rays_.work[std::size_t(SampleWork::Visible)][at];
             const std::size_t sample = rays_.record[at];
-            const int layers = pass_.transparent->count(sample);
+            const int layers = rays_.trace != nullptr ? pass_.transparent->count(sample) : 0;
             if (!pass_.transparent->offer(sample, pass_.pool, LayerFragment{hit, mesh_.objectId}))
                 ++work_.transparentOverflow;
             if (rays_.trace != nullptr)
