@@ -807,7 +807,7 @@ TEST(Cli, RenderWithTheMemorySystemModelled) {
                                     dir + "/sweep --hw " + hw);
     EXPECT_EQ(sweep.exitCode, 2) << sweep.output;
     EXPECT_NE(sweep.output.find("memory.json: memory: sweep compares its methods on modelled "
-                                "cycles, and interleaved record no memory traffic yet"),
+                                "cycles, and interleaved records no memory traffic yet"),
               std::string::npos)
         << sweep.output;
     EXPECT_FALSE(fs::exists(dir + "/sweep"));

@@ -192,6 +192,34 @@ TEST(HardwareConfig, BadMemoryFieldsAreRefusedByName) {
             << edit << " -> " << memoryErrorOf(edit);
 }
 
+// A grid point derives the caches its file left out from the point's own values, as reading a
+// file with those values would.
+TEST(HardwareConfig, AGridPointDerivesTheCachesItsFileLeftOut) {
+    nlohmann::json file =
+        nlohmann::json::parse(readTextFile(test::sourcePath("pipeline/hw/memory.json")));
+    file["memory"]["caches"].erase("vertex_input");
+    file["memory"]["caches"].erase("layers");
+    const HardwareConfig base = parseHardwareConfig(file.dump(), "hw.json");
+    HardwareConfig c = base;
+    setHardwareParameters(c,
+                          {{"memory.caches.visibility.size_bytes", 4096, "v"},
+                           {"memory.line_bytes", 1024, "l"}},
+                          "grid.json");
+    EXPECT_EQ(c.memory->cache(CacheClient::Layers).geometry.sizeBytes, 4096u);
+    EXPECT_EQ(c.memory->cache(CacheClient::Layers).geometry.lineBytes, 1024u);
+    EXPECT_EQ(c.memory->cache(CacheClient::VertexInput).geometry.sizeBytes, 32u * 1024);
+    EXPECT_FALSE(c.memory->cacheGiven[std::size_t(CacheClient::Layers)]);
+    // A field of a left-out cache: the rest of it as derived from the point.
+    c = base;
+    setHardwareParameters(c,
+                          {{"memory.caches.layers.size_bytes", 65536, "s"},
+                           {"memory.caches.visibility.ways", 8, "w"}},
+                          "grid.json");
+    EXPECT_EQ(c.memory->cache(CacheClient::Layers).geometry.sizeBytes, 65536u);
+    EXPECT_EQ(c.memory->cache(CacheClient::Layers).geometry.ways, 8u);
+    EXPECT_EQ(memoryConfigJson(*c.memory)["caches"]["vertex_input"]["size_bytes"], 2048);
+}
+
 TEST(HardwareConfig, MemoryParametersBySetPath) {
     HardwareConfig c = readHardwareConfig(test::sourcePath("pipeline/hw/memory.json"));
     setHardwareParameter(c, "memory.dram.bytes_per_clock", 8, "grid.json",

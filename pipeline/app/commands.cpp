@@ -532,16 +532,20 @@ namespace {
 void checkSweepMethodsTraceMemory(const std::vector<SweepVariant>& variants,
                                   const std::string& hardware) {
     std::string missing;
+    int count = 0;
     SceneDesc probe;
     probe.film.width = probe.film.height = probe.film.samplesPerPixel = 1;
     for (const SweepVariant& v : variants)
         if (!v.method->makeMemoryTrace(probe) &&
-            missing.find(v.method->name()) == std::string::npos)
+            missing.find(v.method->name()) == std::string::npos) {
             missing += (missing.empty() ? "" : ", ") + std::string(v.method->name());
+            ++count;
+        }
     if (!missing.empty())
         throw InputError(hardware, "memory",
                          "sweep compares its methods on modelled cycles, and " + missing +
-                             " record no memory traffic yet: with memory charged to some methods "
+                             (count == 1 ? " records" : " record") +
+                             " no memory traffic yet: with memory charged to some methods "
                              "only the comparison would be unequal; drop those methods or the "
                              "memory section");
 }

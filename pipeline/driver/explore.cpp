@@ -177,7 +177,9 @@ HardwareConfig gridPointHardware(const ExploreGrid& grid, const HardwareConfig& 
         const GridAxis& axis = grid.hardwareAxes[a];
         parameters.push_back({axis.name, axis.json[choice[a]],
                               "hardware." + axis.name + "[" + std::to_string(choice[a]) + "]"});
-        point += (a ? ", " : "") + axis.name + " = " + axis.values[choice[a]];
+        const nlohmann::json& value = axis.json[choice[a]];
+        point += (a ? ", " : "") + axis.name + " = " +
+                 (value.is_string() ? value.dump() : axis.values[choice[a]]);
     }
     HardwareConfig hw = hardware;
     try {

@@ -1,5 +1,6 @@
 #include "pipeline/timing/hardware_config.h"
 
+#include <algorithm>
 #include <bit>
 #include <cmath>
 #include <nlohmann/json.hpp>
@@ -143,6 +144,7 @@ MemoryConfig readMemory(ObjectReader r) {
     for (int c = 0; c < kCacheClients; ++c) {
         const char* name = cacheClientName(CacheClient(c));
         auto cache = caches->object(name);
+        m.cacheGiven[std::size_t(c)] = cache.has_value();
         if (!cache && CacheClient(c) == CacheClient::VertexInput) {
             m.caches[std::size_t(c)] = defaultVertexInputCache(m.lineBytes());
             continue;
@@ -173,9 +175,11 @@ MemoryConfig readMemory(ObjectReader r) {
     return m;
 }
 
-Json memoryJson(const MemoryConfig& m) {
+// The section as a file gives it: with `derived`, the caches the file left out too.
+Json memoryJson(const MemoryConfig& m, bool derived) {
     Json caches = Json::object();
     for (int c = 0; c < kCacheClients; ++c) {
+        if (!derived && !m.cacheGiven[std::size_t(c)]) continue;
         const CacheConfig& cache = m.caches[std::size_t(c)];
         caches[cacheClientName(CacheClient(c))] = {
             {"size_bytes", cache.geometry.sizeBytes},
@@ -193,16 +197,21 @@ Json memoryJson(const MemoryConfig& m) {
 }
 
 // Sets "dram.latency" and the like (a path below "memory.") in the section's JSON; "line_bytes"
-// sets every cache's line size at once.
+// sets every given cache's line size at once. A field of a cache the section leaves out gives it
+// the cache as derived from the section so far (`derived`, memoryJson's).
 void setInMemoryJson(Json& section, const std::string& path, const Json& value,
-                     const std::string& source, const std::string& field) {
+                     const Json& derived, const std::string& source, const std::string& field) {
     const auto unknown = [&] {
         throw InputError(source, field, "unknown hardware parameter 'memory." + path + "'");
     };
     if (path == "line_bytes") {
-        for (int c = 0; c < kCacheClients; ++c)
-            section["caches"][cacheClientName(CacheClient(c))]["line_bytes"] = value;
+        for (auto& [name, cache] : section["caches"].items()) cache["line_bytes"] = value;
         return;
+    }
+    if (path.starts_with("caches.")) {
+        const std::string name = path.substr(7, path.find('.', 7) - 7);
+        if (!section["caches"].contains(name) && derived["caches"].contains(name))
+            section["caches"][name] = derived["caches"][name];
     }
     Json* at = &section;
     std::size_t from = 0;
@@ -233,9 +242,21 @@ void setHardwareParameters(HardwareConfig& c, const std::vector<HardwareParamete
                          "the hardware models no memory (its file has no \"memory\" section)");
     // Every memory field of the set at once, then the file's checks on the whole section: one
     // field's value may be right only with another's (a cache's size with its ways).
-    Json section = memoryJson(*c.memory);
-    for (const HardwareParameter* p : memory)
-        setInMemoryJson(section, p->path.substr(7), p->value, source, p->field);
+    Json section = memoryJson(*c.memory, false);
+    // Fields of the caches the file left out last: they start from the rest as the point sets it.
+    std::stable_partition(memory.begin(), memory.end(), [&](const HardwareParameter* p) {
+        return !p->path.starts_with("memory.caches.") ||
+               section["caches"].contains(p->path.substr(14, p->path.find('.', 14) - 14));
+    });
+    for (const HardwareParameter* p : memory) {
+        Json derived = memoryJson(*c.memory, true);
+        try {
+            derived = memoryJson(readMemory(ObjectReader(section, "memory", source)), true);
+        } catch (const InputError&) {
+            // The section is checked as a whole below.
+        }
+        setInMemoryJson(section, p->path.substr(7), p->value, derived, source, p->field);
+    }
     try {
         c.memory = readMemory(ObjectReader(section, "memory", source));
     } catch (const InputError& e) {
@@ -248,6 +269,10 @@ void setHardwareParameters(HardwareConfig& c, const std::vector<HardwareParamete
         throw InputError(source, culprit->field,
                          culprit->path == e.field() ? e.message() : e.field() + ": " + e.message());
     }
+}
+
+nlohmann::json memoryConfigJson(const MemoryConfig& memory) {
+    return memoryJson(memory, true);
 }
 
 const char* memoryOrderName(MemoryOrder o) {

@@ -58,6 +58,11 @@ struct MemoryConfig {
     // Depth blocks reach DRAM at their compressed size (depth_compression.h).
     DepthCompression depthCompression = DepthCompression::None;
 
+    // The caches the file gave; an optional one left out (vertex_input, layers) is derived from
+    // the others whenever the section is read, so an `explore` point that changes those changes
+    // it too.
+    std::array<bool, kCacheClients> cacheGiven{};
+
     const CacheConfig& cache(CacheClient c) const { return caches[std::size_t(c)]; }
     CacheConfig& cache(CacheClient c) { return caches[std::size_t(c)]; }
     std::uint32_t lineBytes() const { return caches[0].geometry.lineBytes; }
@@ -98,5 +103,9 @@ struct HardwareParameter {
 };
 void setHardwareParameters(HardwareConfig& config, const std::vector<HardwareParameter>& parameters,
                            const std::string& source);
+
+// The memory section as the model uses it: every cache, the derived ones filled in (stats.json's
+// memory.config).
+nlohmann::json memoryConfigJson(const MemoryConfig& memory);
 
 }  // namespace patchsim

@@ -457,6 +457,7 @@ MemoryReport simulateMemory(const MemoryTrace& trace, const MemoryConfig& config
     MemoryReport report = memory.finish();
     report.patches.resize(frame.patchCount);
     report.traceBytes = trace.bytes();
+    report.config = config;
     return report;
 }
 
@@ -471,7 +472,8 @@ nlohmann::ordered_json memoryReportJson(const MemoryReport& r) {
     nlohmann::ordered_json requested = nlohmann::ordered_json::object();
     for (int c = 0; c < kMemoryClasses; ++c)
         requested[memoryClassName(MemoryClass(c))] = r.requestedBytes[std::size_t(c)];
-    nlohmann::ordered_json json = {{"requested_bytes", requested},
+    nlohmann::ordered_json json = {{"config", memoryConfigJson(r.config)},
+                                   {"requested_bytes", requested},
                                    {"caches", caches},
                                    {"dram_read_bytes", r.dramReadBytes},
                                    {"dram_write_bytes", r.dramWriteBytes},
@@ -496,15 +498,20 @@ void printMemoryReport(const MemoryReport& r, std::ostream& out) {
                       static_cast<unsigned long long>(r.requestedBytes[std::size_t(c)]));
         out << line;
     }
-    out << "  cache                line reads  line writes   hit rate  write-backs\n";
+    out << "  cache                line reads  line writes   hit rate  write-backs      bytes  ways\n";
     for (int c = 0; c < kCacheClients; ++c) {
         const CacheStats& s = r.caches[std::size_t(c)];
-        std::snprintf(line, sizeof line, "  %-18s %12llu %12llu %9.1f%% %12llu\n",
+        const CacheGeometry& g = r.config.caches[std::size_t(c)].geometry;
+        std::snprintf(line, sizeof line, "  %-18s %12llu %12llu %9.1f%% %12llu %10llu %5u%s\n",
                       cacheClientTitle(CacheClient(c)), static_cast<unsigned long long>(s.reads),
                       static_cast<unsigned long long>(s.writes), 100.0 * s.hitRate(),
-                      static_cast<unsigned long long>(s.writebacks));
+                      static_cast<unsigned long long>(s.writebacks),
+                      static_cast<unsigned long long>(g.sizeBytes), g.ways,
+                      r.config.cacheGiven[std::size_t(c)] ? "" : " (derived)");
         out << line;
     }
+    std::snprintf(line, sizeof line, "  order: %s\n", memoryOrderName(r.config.order));
+    out << line;
     std::snprintf(line, sizeof line, "  DRAM: %llu bytes read, %llu bytes written\n",
                   static_cast<unsigned long long>(r.dramReadBytes),
                   static_cast<unsigned long long>(r.dramWriteBytes));

@@ -111,6 +111,7 @@ struct MemoryReport {
     std::uint64_t traceBytes = 0;
     // With depth compression: the frame's final depth, block by block.
     std::optional<DepthCompressionReport> depthCompression;
+    MemoryConfig config;  // what the frame was replayed through
 
     std::uint64_t dramBytes() const { return dramReadBytes + dramWriteBytes; }
     std::uint64_t requested(MemoryClass c) const { return requestedBytes[std::size_t(c)]; }
