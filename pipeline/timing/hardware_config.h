@@ -61,7 +61,7 @@ struct MemoryConfig {
     // The caches the file gave; an optional one left out (vertex_input, layers) is derived from
     // the others whenever the section is read, so an `explore` point that changes those changes
     // it too.
-    std::array<bool, kCacheClients> cacheGiven{};
+    std::array<bool, kCacheClients> cacheGiven{true, true, true, true, true};
 
     const CacheConfig& cache(CacheClient c) const { return caches[std::size_t(c)]; }
     CacheConfig& cache(CacheClient c) { return caches[std::size_t(c)]; }

@@ -156,6 +156,7 @@ class LayerBuffer {
 
     // An offer to sample (x, y, s), from the trace.
     void offer(int x, int y, int s, bool appended, std::size_t patch, MemorySystem& memory) {
+        if (slots_ == 0) return;  // offers are recorded only beside the trace's layer slots
         const std::uint64_t sample = layout_.sampleIndex(x, y, s);
         const std::uint64_t layers = count_[sample];
         // A full sample cannot add (a frame replayed again, FrameMemoryInputs::frames); an empty
