@@ -1,0 +1,92 @@
+#include "core/number_format.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace patchsim {
+
+namespace {
+
+// An IEEE-like binary format: fraction bits, the smallest normal exponent and the largest finite
+// value.
+struct FloatLayout {
+    int fractionBits;
+    int minExponent;  // of the smallest normal value, 2^minExponent
+    double largest;
+};
+
+FloatLayout layoutOf(NumberFormat::Kind kind) {
+    if (kind == NumberFormat::Kind::Fp16) return {10, -14, 65504.0};
+    if (kind == NumberFormat::Kind::Bf16)
+        return {7, -126, std::ldexp(2.0 - std::ldexp(1.0, -7), 127)};
+    return {23, -126, double(std::numeric_limits<float>::max())};
+}
+
+// `scaled` (an exact double) to an integer as asked; ties to even.
+double roundInteger(double scaled, Rounding rounding) {
+    if (rounding == Rounding::Down) return std::floor(scaled);
+    if (rounding == Rounding::Up) return std::ceil(scaled);
+    return std::nearbyint(scaled);  // the default environment: to nearest, ties to even
+}
+
+// The format's spacing at |x|: 2^(exponent - fraction bits), the exponent no smaller than the
+// smallest normal one (below it the spacing is the subnormals').
+double unitInLastPlaceOf(float x, const FloatLayout& f) {
+    int exponent = f.minExponent;
+    if (x != 0.0f && std::isfinite(x)) exponent = std::max(std::ilogb(x), f.minExponent);
+    return std::ldexp(1.0, exponent - f.fractionBits);
+}
+
+float roundFloatFormat(float x, const FloatLayout& f, Rounding rounding) {
+    const double ulp = unitInLastPlaceOf(x, f);
+    const double value = roundInteger(double(x) / ulp, rounding) * ulp;
+    if (std::abs(value) <= f.largest) return float(value);
+    // Beyond the largest finite value: infinity, unless the rounding goes toward zero.
+    const bool towardZero =
+        (value > 0 && rounding == Rounding::Down) || (value < 0 && rounding == Rounding::Up);
+    if (towardZero) return float(std::copysign(f.largest, value));
+    return std::copysign(std::numeric_limits<float>::infinity(), float(value));
+}
+
+}  // namespace
+
+float roundTo(float x, const NumberFormat& format, Rounding rounding) {
+    if (std::isnan(x) || std::isinf(x) || format.kind == NumberFormat::Kind::Fp32) return x;
+    if (format.kind != NumberFormat::Kind::Fixed)
+        return roundFloatFormat(x, layoutOf(format.kind), rounding);
+    const double ulp = std::ldexp(1.0, -format.fractionBits);
+    const double low = -std::ldexp(1.0, format.integerBits - 1);
+    const double high = -low - ulp;
+    const double value = roundInteger(double(x) / ulp, rounding) * ulp;
+    return float(std::min(std::max(value, low), high));
+}
+
+bool representable(float x, const NumberFormat& format) {
+    if (format.kind != NumberFormat::Kind::Fixed || !std::isfinite(x)) return true;
+    const double ulp = std::ldexp(1.0, -format.fractionBits);
+    const double low = -std::ldexp(1.0, format.integerBits - 1);
+    return double(x) >= low && double(x) <= -low - ulp;
+}
+
+double unitInLastPlace(float x, const NumberFormat& format) {
+    if (format.kind == NumberFormat::Kind::Fixed) return std::ldexp(1.0, -format.fractionBits);
+    return unitInLastPlaceOf(x, layoutOf(format.kind));
+}
+
+std::string formatName(const NumberFormat& format) {
+    switch (format.kind) {
+        case NumberFormat::Kind::Fp32:
+            return "fp32";
+        case NumberFormat::Kind::Fp16:
+            return "fp16";
+        case NumberFormat::Kind::Bf16:
+            return "bf16";
+        case NumberFormat::Kind::Fixed:
+            return "fixed" + std::to_string(format.integerBits) + "." +
+                   std::to_string(format.fractionBits);
+    }
+    return "?";
+}
+
+}  // namespace patchsim
