@@ -18,6 +18,30 @@ TileVerifierResult verify(std::int64_t cases, std::uint64_t seed) {
     return verifyTileTests(o);
 }
 
+// A moving box's screen bounds stored in fp16 or bf16: rounded outward the test never rejects
+// falsely; rounded to nearest (the naive variant) it does.
+TEST(TileTestVerifier, ReducedPrecisionBoundsRejectFalselyOnlyWhenRoundedToNearest) {
+    const ScopedTileTest half(makeReducedScreenTileTest(NumberFormat::fp16(), false));
+    const ScopedTileTest brain(makeReducedScreenTileTest(NumberFormat::bf16(), false));
+    const TileVerifierResult result = verify(3000, 42);
+    const auto find = [&](const std::string& name, CaseModel model) {
+        for (const TileTestReport& r : result.reports)
+            if (r.name == name && r.model == model) return r;
+        ADD_FAILURE() << name;
+        return TileTestReport{};
+    };
+    for (const CaseModel model : {CaseModel::Pinhole, CaseModel::Lens}) {
+        EXPECT_EQ(find("patent-2d-time-fp16", model).falseRejects, 0);
+        EXPECT_EQ(find("patent-2d-time-bf16", model).falseRejects, 0);
+        const TileTestReport exact = find("patent-2d-time", model);
+        const TileTestReport outward = find("patent-2d-time-bf16", model);
+        EXPECT_GE(outward.falseAccepts, exact.falseAccepts);  // only ever accepts more
+    }
+    EXPECT_GT(find("patent-2d-time-bf16-naive", CaseModel::Pinhole).falseRejects +
+                  find("patent-2d-time-bf16-naive", CaseModel::Lens).falseRejects,
+              0);
+}
+
 TEST(TileTestVerifier, EveryVariantAndCheckIsListedAndNeverRejectsFalsely) {
     const TileVerifierResult result = verify(3000, 42);
     std::set<std::string> names;

@@ -17,6 +17,7 @@
 
 #include "core/camera.h"
 #include "core/lbbox.h"
+#include "core/number_format.h"
 #include "core/ray.h"
 #include "core/time_range.h"
 #include "rasterizer/common/tile_grid.h"
@@ -69,6 +70,12 @@ class ScopedTileTest {
 // tile_test_variants.cpp, the literature's in tile_test_literature.cpp).
 void addPatentTileTests(std::vector<std::unique_ptr<TileTestVariant>>& out);
 void addLiteratureTileTests(std::vector<std::unique_ptr<TileTestVariant>>& out);
+
+// The 2D screen-space test with the moving box's screen bounds stored in `format`, rounded
+// outward (registered for fp16 and bf16) or, when not `outward`, to nearest (the naive variant,
+// for tests).
+std::unique_ptr<TileTestVariant> makeReducedScreenTileTest(const NumberFormat& format,
+                                                           bool outward);
 
 enum class CaseModel : std::uint8_t { Pinhole, Lens, Hierarchy };
 const char* caseModelName(CaseModel model);

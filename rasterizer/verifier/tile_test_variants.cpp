@@ -3,6 +3,7 @@
 // each side is bounded through the lens extremes; without, one plane (line, edge) per side. These
 // call the same functions the patch rasterizer's traversal does.
 
+#include "core/number_format.h"
 #include "rasterizer/patent/projected_bounds.h"
 #include "rasterizer/patent/tile_frustum.h"
 #include "rasterizer/verifier/tile_test_variant.h"
@@ -52,6 +53,51 @@ class PatentTest : public TileTestVariant {
     bool refine_;
 };
 
+// The 2D screen-space test with the moving box's screen bounds stored in a smaller float format
+// (issue 35), rounded outward: lower corners down, upper corners up, the depth ratios' range
+// widened and the near depths brought nearer. The stored box then holds the fp32 box at every
+// blend of its two ends, and the test is monotone in the box, so whatever the fp32 test accepts
+// it accepts too: it cannot reject falsely, only accept more.
+// Rounded to nearest instead (`outward` false), the naive variant, it can shrink the box and
+// reject falsely: kept for the tests to show what the outward rounding prevents.
+class ReducedScreenTest : public TileTestVariant {
+  public:
+    ReducedScreenTest(NumberFormat format, bool outward) : format_(format), outward_(outward) {}
+    std::string name() const override {
+        return "patent-2d-time-" + formatName(format_) + (outward_ ? "" : "-naive");
+    }
+    TileTestOutput run(const TileTestInput& in) const override {
+        RasterWork work;
+        TileTestOutput out;
+        const ScreenTile t = makeScreenTile(*in.camera, in.tile, in.camera->farPlane());
+        ScreenMovingBox b = projectMovingBox(in.box, *in.camera, in.lens);
+        const auto down = [&](float& v) {
+            v = roundTo(v, format_, outward_ ? Rounding::Down : Rounding::Nearest);
+        };
+        const auto up = [&](float& v) {
+            v = roundTo(v, format_, outward_ ? Rounding::Up : Rounding::Nearest);
+        };
+        for (Vec2* lower : {&b.lower0, &b.lower1}) {
+            down(lower->x);
+            down(lower->y);
+        }
+        for (Vec2* upper : {&b.upper0, &b.upper1}) {
+            up(upper->x);
+            up(upper->y);
+        }
+        down(b.ratioMin);
+        up(b.ratioMax);
+        down(b.nearDepth0);
+        down(b.nearDepth1);
+        out.accept = screenTileTimes(t, b, out.times, work);
+        return out;
+    }
+
+  private:
+    NumberFormat format_;
+    bool outward_;
+};
+
 }  // namespace
 
 void addPatentTileTests(std::vector<std::unique_ptr<TileTestVariant>>& out) {
@@ -59,6 +105,13 @@ void addPatentTileTests(std::vector<std::unique_ptr<TileTestVariant>>& out) {
          {BoundsSpace::Camera3D, BoundsSpace::Homogeneous2D, BoundsSpace::Screen2D})
         for (bool refine : {false, true})
             out.push_back(std::make_unique<PatentTest>(space, refine));
+    for (const NumberFormat& format : {NumberFormat::fp16(), NumberFormat::bf16()})
+        out.push_back(std::make_unique<ReducedScreenTest>(format, true));
+}
+
+std::unique_ptr<TileTestVariant> makeReducedScreenTileTest(const NumberFormat& format,
+                                                           bool outward) {
+    return std::make_unique<ReducedScreenTest>(format, outward);
 }
 
 }  // namespace patchsim
