@@ -368,10 +368,8 @@ class BandRasterizer {
         const std::size_t at = bandOffset_ + i;
         if (!mesh.opaque && t_.transparent != nullptr) {
             ++work.transparentFragments;
-            const int layers = trace_ ? t_.transparent->count(at) : 0;
-            if (!t_.transparent->offer(at, t_.pool, {hit, mesh.objectId}))
+            if (!offerToLayers(*t_.transparent, at, t_.pool, {hit, mesh.objectId}, trace_))
                 ++work.transparentOverflow;
-            if (trace_) trace_->offered(at, t_.transparent->count(at) > layers);
             return;
         }
         VisibilityRecord& nearest = t_.opaque->mutableRecords()[at];

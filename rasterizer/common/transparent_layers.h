@@ -17,6 +17,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "core/memory_trace.h"
 #include "rasterizer/common/frame_partition.h"
 #include "rasterizer/common/visibility_buffer.h"
 
@@ -49,5 +50,17 @@ class TransparentLayers {
     std::vector<std::uint8_t> count_;
     std::vector<std::vector<LayerFragment>> pools_;
 };
+
+// Offers `fragment` to `sample`'s layers and, when the hardware models memory (`trace`), records
+// the offer and whether it added a layer (core/memory_trace.h). Returns false when a fragment
+// was dropped, as TransparentLayers::offer does.
+inline bool offerToLayers(TransparentLayers& layers, std::size_t sample, int pool,
+                          const LayerFragment& fragment, RegionTraceWriter* trace) {
+    if (trace == nullptr) return layers.offer(sample, pool, fragment);
+    const int before = layers.count(sample);
+    const bool kept = layers.offer(sample, pool, fragment);
+    trace->offered(sample, layers.count(sample) > before);
+    return kept;
+}
 
 }  // namespace patchsim

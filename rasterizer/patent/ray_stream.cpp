@@ -665,13 +665,9 @@ class Pass {
                 record.lens = {rays_.lensU[i], rays_.lensV[i]};
                 ++work_.transparentFragments;
                 if (kCount) ++rays_.work[std::size_t(SampleWork::Visible)][i];
-                const std::size_t at = rays_.record[i];
-                const int layers = rays_.trace != nullptr ? pass_.transparent->count(at) : 0;
-                if (!pass_.transparent->offer(at, pass_.pool,
-                                              LayerFragment{record, mesh_.objectId}))
+                if (!offerToLayers(*pass_.transparent, rays_.record[i], pass_.pool,
+                                   LayerFragment{record, mesh_.objectId}, rays_.trace))
                     ++work_.transparentOverflow;
-                if (rays_.trace != nullptr)
-                    rays_.trace->offered(at, pass_.transparent->count(at) > layers);
             }
         }
     }

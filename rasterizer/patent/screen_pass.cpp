@@ -241,12 +241,9 @@ class ScreenPass {
             hit.lens = {rays_.lensU[at], rays_.lensV[at]};
             ++work_.transparentFragments;
             if (kCount) ++rays_.work[std::size_t(SampleWork::Visible)][at];
-            const std::size_t sample = rays_.record[at];
-            const int layers = rays_.trace != nullptr ? pass_.transparent->count(sample) : 0;
-            if (!pass_.transparent->offer(sample, pass_.pool, LayerFragment{hit, mesh_.objectId}))
+            if (!offerToLayers(*pass_.transparent, rays_.record[at], pass_.pool,
+                               LayerFragment{hit, mesh_.objectId}, rays_.trace))
                 ++work_.transparentOverflow;
-            if (rays_.trace != nullptr)
-                rays_.trace->offered(sample, pass_.transparent->count(sample) > layers);
         } else {
             VisibilityRecord best;
             best.depth = rays_.bestDepth[at];
