@@ -4,8 +4,8 @@
     python3 plot_results.py sweep SWEEP_DIR/results.csv OUT_DIR
     python3 plot_results.py explore RESULTS.csv OUT_DIR
 
-sweep: per scene, OUT_DIR/<scene>.png and .svg (PSNR and RMSE against wall time and against
-modelled cycles, log scales, one line per method with its samples per pixel labelled, the Pareto
+sweep: per scene, OUT_DIR/<scene>.png and .svg (PSNR and RMSE against wall time, modelled
+cycles and modelled energy, log scales, one line per method with its samples per pixel labelled, the Pareto
 front of all runs marked) and OUT_DIR/<scene>-crops.png (the same crop of every run, read from
 SWEEP_DIR/images, beside the converged image, where the runs disagree most).
 
@@ -132,13 +132,12 @@ def pareto(points):
 
 def plot_scene(scene, rows, out_dir):
     methods = in_order(run_name(r) for r in rows)
-    fig, axes = plt.subplots(2, 2, figsize=(12, 9))
-    panels = [
-        ("wall_seconds", "psnr", "wall time (s)", "PSNR (dB, higher is better)"),
-        ("modelled_cycles", "psnr", "modelled cycles", "PSNR (dB, higher is better)"),
-        ("wall_seconds", "rmse", "wall time (s)", "RMSE (linear RGB, lower is better)"),
-        ("modelled_cycles", "rmse", "modelled cycles", "RMSE (linear RGB, lower is better)"),
-    ]
+    costs = [("wall_seconds", "wall time (s)"), ("modelled_cycles", "modelled cycles")]
+    if all(r.get("energy_nj") for r in rows):  # CSVs before the energy model have none
+        costs.append(("energy_nj", "modelled energy (nJ)"))
+    errors = [("psnr", "PSNR (dB, higher is better)"), ("rmse", "RMSE (linear RGB, lower is better)")]
+    fig, axes = plt.subplots(2, len(costs), figsize=(6 * len(costs), 9), squeeze=False)
+    panels = [(x, y, xl, yl) for y, yl in errors for x, xl in costs]
     for ax, (xkey, ykey, xlabel, ylabel) in zip(axes.flat, panels):
         everything = []
         for k, method in enumerate(methods):

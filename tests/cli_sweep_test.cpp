@@ -67,9 +67,14 @@ TEST(CliSweep, WithMemoryModelledEveryRowHasItsDramBytes) {
             sourcePath("pipeline/hw/memory.json") + " -o " + dir);
     ASSERT_EQ(r.exitCode, 0) << r.output;
     const std::string csv = readFile(dir + "/results.csv");
-    EXPECT_NE(csv.find(",front,dram_bytes\n"), std::string::npos) << csv;
+    EXPECT_NE(csv.find(",front,dram_bytes,energy_nj\n"), std::string::npos) << csv;
     EXPECT_EQ(csvColumn(csv, 1), (std::vector<std::string>{"patch", "triangle-bbox", "interval"}));
     for (const std::string& bytes : csvColumn(csv, 16)) EXPECT_GT(std::stod(bytes), 0) << csv;
+    // Each method's energy, its DRAM bytes priced among the rest, over 8 bytes at 1.95 nJ.
+    const std::vector<std::string> bytes = csvColumn(csv, 16), energy = csvColumn(csv, 17);
+    ASSERT_EQ(energy.size(), bytes.size());
+    for (std::size_t k = 0; k < energy.size(); ++k)
+        EXPECT_GT(std::stod(energy[k]), std::stod(bytes[k]) / 8 * 1.95) << csv;
 }
 
 TEST(CliSweep, ScenesOfTheSameNameGetTheirOwnRuns) {

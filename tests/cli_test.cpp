@@ -701,7 +701,7 @@ TEST(Cli, SweepVariesEachMethodsOwnParametersAndMarksItsParetoBest) {
     }
     ASSERT_EQ(bySetting.size(), 7u) << "2 + 2 + 3 settings";
     const auto cycles = [&](const std::string& run) { return std::stod(bySetting[run][5]); };
-    const auto front = [&](const std::string& run) { return bySetting[run].back() == "1"; };
+    const auto front = [&](const std::string& run) { return bySetting[run][15] == "1"; };
     const auto rmse = [&](const std::string& run) { return bySetting[run][11]; };
     // Exact methods: one image, so one error; the cheaper setting is the front.
     EXPECT_EQ(rmse("interval time-strata=0"), rmse("interval time-strata=1"));
@@ -789,6 +789,15 @@ TEST(Cli, RenderWithTheMemorySystemModelled) {
     EXPECT_GT(stats["memory"]["dram_write_bytes"].get<double>(), 0);
     EXPECT_GT(stats["memory"]["requested_bytes"]["depth_writes"].get<double>(), 0);
     EXPECT_TRUE(stats["timing"].contains("memory"));
+    // Energy: the stages' arithmetic and the memory system's accesses, which add up.
+    const auto& energy = stats["energy"];
+    EXPECT_TRUE(energy["memory_modelled"].get<bool>()) << energy.dump(1);
+    EXPECT_GT(energy["memory_parts_nj"]["DRAM"].get<double>(), 0);
+    EXPECT_GT(energy["stages_nj"]["RS"].get<double>(), 0);
+    EXPECT_NEAR(energy["total_nj"].get<double>(),
+                energy["compute_nj"].get<double>() + energy["memory_nj"].get<double>(),
+                1e-9 * energy["total_nj"].get<double>());
+    EXPECT_NE(r.output.find("energy: "), std::string::npos) << r.output;
     std::ifstream traceFile(dir + "/trace.json");
     const std::string trace((std::istreambuf_iterator<char>(traceFile)),
                             std::istreambuf_iterator<char>());

@@ -12,6 +12,14 @@
 namespace patchsim {
 namespace {
 
+// A row's number in CSV column `column` (0 is the scene).
+double csvNumber(const ExploreRow& row, std::ptrdiff_t column) {
+    std::vector<std::string> fields;
+    std::istringstream line(row.csv);
+    for (std::string field; std::getline(line, field, ',');) fields.push_back(field);
+    return std::stod(fields.at(std::size_t(column)));
+}
+
 std::string errorOf(const std::string& json) {
     try {
         parseExploreGrid(json, "grid.json");
@@ -81,16 +89,16 @@ TEST(Explore, MemoryFieldsAreHardwareAxes) {
     const std::string header = exploreCsvHeader(grid);
     const auto column =
         std::count(header.begin(), header.begin() + header.find(",dram_bytes"), ',') + 1;
-    const auto dramBytes = [&](const ExploreRow& row) {
-        std::vector<std::string> fields;
-        std::istringstream line(row.csv);
-        for (std::string field; std::getline(line, field, ',');) fields.push_back(field);
-        return std::stod(fields[std::size_t(column)]);
-    };
+    const auto dramBytes = [&](const ExploreRow& row) { return csvNumber(row, column); };
     // rows: (small LLC, slow), (small, fast), (large, slow), (large, fast)
     EXPECT_GT(dramBytes(rows[0]), dramBytes(rows[2]));  // a larger LLC keeps lines on chip
     EXPECT_EQ(dramBytes(rows[0]), dramBytes(rows[1]));  // bandwidth moves no byte
     EXPECT_GT(rows[0].totalCycles, rows[1].totalCycles);
+    const auto energyColumn =
+        std::count(header.begin(), header.begin() + header.find(",energy_nj"), ',') + 1;
+    const auto energy = [&](const ExploreRow& row) { return csvNumber(row, energyColumn); };
+    EXPECT_EQ(energy(rows[0]), energy(rows[1]));  // bandwidth moves no joule either
+    EXPECT_NE(energy(rows[0]), energy(rows[2]));
     // Before any render: the grid's memory fields need hardware that models memory.
     EXPECT_NO_THROW(checkGridHardware(grid, memory));
     try {
@@ -99,6 +107,32 @@ TEST(Explore, MemoryFieldsAreHardwareAxes) {
     } catch (const InputError& e) {
         EXPECT_NE(std::string(e.what()).find("grid.json: hardware.memory."), std::string::npos)
             << e.what();
+    }
+}
+
+// An energy entry is an axis: the process scale scales the frame's energy, nothing else.
+TEST(Explore, EnergyEntriesAreHardwareAxes) {
+    const ExploreGrid grid = parseExploreGrid(
+        R"({"hardware": {"energy.process_scale": [1, 0.5]},
+            "film": {"width": 32, "height": 24, "spp": 1}})",
+        "grid.json");
+    const std::vector<SceneDesc> scenes = {readSceneFile(test::sourcePath("scenes/motion.json"))};
+    const std::vector<ExploreRow> rows = runExploreJob(scenes, grid, defaultHardwareConfig(), 0, 1);
+    ASSERT_EQ(rows.size(), 2u);
+    const std::string header = exploreCsvHeader(grid);
+    const auto column =
+        std::count(header.begin(), header.begin() + header.find(",energy_nj"), ',') + 1;
+    const double full = csvNumber(rows[0], column);
+    EXPECT_GT(full, 0);
+    EXPECT_NEAR(csvNumber(rows[1], column), full / 2, full * 1e-5);
+    EXPECT_EQ(rows[0].totalCycles, rows[1].totalCycles);
+    try {
+        checkGridHardware(
+            parseExploreGrid(R"({"hardware": {"energy.fp64_mul_pj": [1]}})", "g.json"),
+            defaultHardwareConfig());
+        ADD_FAILURE() << "an unknown energy entry was accepted";
+    } catch (const InputError& e) {
+        EXPECT_NE(std::string(e.what()).find("energy.fp64_mul_pj"), std::string::npos) << e.what();
     }
 }
 

@@ -375,8 +375,13 @@ int runRender(const JobSettings& s, const MpiContext& mpi) {
     const TimingReport& timing = frameTiming.timing;
     const CounterValues counters = CounterRegistry::instance().snapshot();
     const double ste = counters.ratio(options.visibilityMethod().sampleTestEfficiency());
-    StatsContext context{"render", scene.path, {},
-                         {},       &timing,    frameTiming.memory ? &*frameTiming.memory : nullptr};
+    StatsContext context{"render",
+                         scene.path,
+                         {},
+                         {},
+                         &timing,
+                         frameTiming.memory ? &*frameTiming.memory : nullptr,
+                         &frameTiming.energy};
     context.facts = renderFacts(scene, options, result, counters, ste, s.hardware);
     context.options = recordedOptions(Command::Render, s, &scene.rasterizer);
     const std::vector<std::string> heatMaps =
@@ -392,6 +397,7 @@ int runRender(const JobSettings& s, const MpiContext& mpi) {
         std::cout << "memory: not modelled for the " << options.visibilityMethod().name()
                   << " method yet (it records no surface traffic); the timing above is the "
                      "compute-only model's\n";
+    printEnergyReport(frameTiming.energy, std::cout);
     printRenderSummary(s, scene, options, result, ste, heatMaps.size());
     return 0;
 }

@@ -210,6 +210,7 @@ FrameTiming timeFrame(const RenderResult& result, const HardwareConfig& hardware
     }
     t.memoryNotModelled = hardware.memory && !result.memoryTrace;
     t.timing = simulateTiming(result.patchOps, hardware, t.memory ? &*t.memory : nullptr);
+    t.energy = estimateEnergy(result.patchOps, hardware, t.memory ? &*t.memory : nullptr);
     return t;
 }
 

@@ -54,6 +54,7 @@ RenderResult renderScene(const SceneDesc& scene, const RenderOptions& options);
 struct FrameTiming {
     std::optional<MemoryReport> memory;
     TimingReport timing;
+    EnergyReport energy;
     // The hardware models memory but the frame's method records no surface traffic: its timing
     // is the compute-only model's.
     bool memoryNotModelled = false;

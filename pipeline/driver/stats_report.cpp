@@ -90,6 +90,7 @@ void writeStatsJson(std::ostream& out, const StatsContext& context,
         }
     }
     if (context.memory) json["memory"] = memoryReportJson(*context.memory);
+    if (context.energy) json["energy"] = energyReportJson(*context.energy);
     out << json.dump(2) << "\n";
 }
 

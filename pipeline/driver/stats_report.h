@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "core/counters.h"
+#include "pipeline/timing/energy_model.h"
 #include "pipeline/timing/timing_model.h"
 
 namespace patchsim {
@@ -20,6 +21,7 @@ struct StatsContext {
     std::vector<std::pair<std::string, std::string>> options;
     const TimingReport* timing = nullptr;  // cycle report, when modelled
     const MemoryReport* memory = nullptr;  // memory traffic, when the hardware models memory
+    const EnergyReport* energy = nullptr;  // the frame's modelled energy, with the timing
 };
 
 void printCounterTable(std::ostream& out, const CounterValues& values);

@@ -72,6 +72,7 @@ SweepRow measureRun(const SweepScene& s, const SweepVariant& variant, int spp,
         const FrameTiming timing = timeFrame(result, o.hardware);
         row.modelledCycles = timing.timing.totalCycles;
         if (timing.memory) row.dramBytes = timing.memory->dramBytes();
+        row.energyNanojoules = timing.energy.totalPicojoules() / 1e3;
         row.visibility = method.totals(counters);
         row.shadingInvocations = counters[shadingCounters().invocations];
         row.rmse = rmse(result.frame.color, converged.color);
@@ -197,7 +198,7 @@ void markParetoFronts(std::vector<SweepRow>& rows) {
 std::string sweepCsvHeader() {
     return "scene,method,setting,spp,wall_seconds,modelled_cycles,samples_tested,rays,"
            "visibility_samples,sample_test_efficiency,shading_invocations,rmse,psnr,ssim,"
-           "coverage_error,front,dram_bytes";
+           "coverage_error,front,dram_bytes,energy_nj";
 }
 
 std::string sweepCsvRow(const SweepRow& r) {
@@ -208,7 +209,8 @@ std::string sweepCsvRow(const SweepRow& r) {
            number(r.visibility.sampleTestEfficiency) + "," + std::to_string(r.shadingInvocations) +
            "," + number(r.rmse) + "," + number(r.psnr) + "," + number(r.ssim) + "," +
            number(r.coverageError) + "," + (r.front ? "1" : "0") + "," +
-           (r.dramBytes ? std::to_string(*r.dramBytes) : std::string());
+           (r.dramBytes ? std::to_string(*r.dramBytes) : std::string()) + "," +
+           number(r.energyNanojoules);
 }
 
 namespace {

@@ -70,6 +70,8 @@ struct SweepRow {
     double wallSeconds = 0, modelledCycles = 0;
     // With the memory system modelled: bytes to and from DRAM (the CSV leaves it empty without).
     std::optional<std::uint64_t> dramBytes;
+    // The modelled energy (energy_model.h): arithmetic, and the memory system's when modelled.
+    double energyNanojoules = 0;
     VisibilityTotals visibility;
     std::int64_t shadingInvocations = 0;
     double rmse = 0, psnr = 0, ssim = 1, coverageError = 0;

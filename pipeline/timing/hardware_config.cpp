@@ -199,8 +199,8 @@ Json memoryJson(const MemoryConfig& m, bool derived) {
 // Sets "dram.latency" and the like (a path below "memory.") in the section's JSON; "line_bytes"
 // sets every given cache's line size at once. A field of a cache the section leaves out gives it
 // the cache as derived from the section so far (`derived`, memoryJson's).
-void setInMemoryJson(Json& section, const std::string& path, const Json& value,
-                     const Json& derived, const std::string& source, const std::string& field) {
+void setInMemoryJson(Json& section, const std::string& path, const Json& value, const Json& derived,
+                     const std::string& source, const std::string& field) {
     const auto unknown = [&] {
         throw InputError(source, field, "unknown hardware parameter 'memory." + path + "'");
     };
@@ -329,6 +329,7 @@ HardwareConfig parseHardwareConfig(std::string_view text, const std::string& pat
     }
     stages->finish();
     if (auto memory = root.object("memory")) config.memory = readMemory(*memory);
+    if (auto energy = root.object("energy")) config.energy = readEnergyTable(*energy);
     root.finish();
     return config;
 }
@@ -356,6 +357,8 @@ void setHardwareParameter(HardwareConfig& c, const std::string& path, const Json
     }
     if (path.starts_with("memory."))
         return setHardwareParameters(c, {{path, value, field}}, source);
+    if (path.starts_with("energy."))
+        return setEnergyEntry(c.energy, path.substr(7), value, source, field);
     const auto dot = path.find('.');
     if (dot == std::string::npos) fail("unknown hardware parameter '" + path + "'");
     const std::string stageText = path.substr(0, dot), rest = path.substr(dot + 1);

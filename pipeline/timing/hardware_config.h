@@ -15,6 +15,7 @@
 #include "core/stage_ops.h"
 #include "pipeline/timing/cache_model.h"
 #include "pipeline/timing/depth_compression.h"
+#include "pipeline/timing/energy_model.h"
 
 namespace patchsim {
 
@@ -74,6 +75,7 @@ struct HardwareConfig {
     std::array<StageConfig, kStageCount> stages;
     // Absent: the compute-only model (infinite bandwidth, no memory traffic simulated).
     std::optional<MemoryConfig> memory;
+    EnergyTable energy;  // the file's optional "energy" section over Horowitz's 45 nm defaults
 
     const StageConfig& stage(Stage s) const { return stages[std::size_t(s)]; }
     StageConfig& stage(Stage s) { return stages[std::size_t(s)]; }
@@ -86,7 +88,8 @@ HardwareConfig defaultHardwareConfig();  // pipeline/hw/default.json
 
 // Sets one parameter by its path ("RS.units", "RS.throughput.ray_box_tests", "RS.latency",
 // "RS.fifo_depth", "clock_ghz", "scratch_budget_bytes", or a field of the memory section such as
-// "memory.dram.bytes_per_clock" or "memory.caches.depth.size_bytes") to a JSON value, with the
+// "memory.dram.bytes_per_clock" or "memory.caches.depth.size_bytes", or an energy entry such as
+// "energy.fp32_mul_pj" or "energy.process_scale") to a JSON value, with the
 // ranges the file reader applies; throws InputError(source, field) if the path is unknown or the
 // value refused.
 void setHardwareParameter(HardwareConfig& config, const std::string& path,
