@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 
 namespace patchsim {
@@ -87,6 +88,37 @@ std::string formatName(const NumberFormat& format) {
                    std::to_string(format.fractionBits);
     }
     return "?";
+}
+
+bool parseNumberFormat(const std::string& name, NumberFormat& out) {
+    for (const NumberFormat f : {NumberFormat::fp32(), NumberFormat::fp16(), NumberFormat::bf16()})
+        if (name == formatName(f)) {
+            out = f;
+            return true;
+        }
+    int integerBits = 0, fractionBits = 0, consumed = 0;
+    if (std::sscanf(name.c_str(), "fixed%d.%d%n", &integerBits, &fractionBits, &consumed) != 2 ||
+        consumed != int(name.size()))
+        return false;
+    const NumberFormat f = NumberFormat::fixed(integerBits, fractionBits);
+    if (integerBits < 2 || integerBits > 32 || fractionBits < 0 || fractionBits > 30 ||
+        integerBits + fractionBits > 48 || formatName(f) != name)
+        return false;
+    out = f;
+    return true;
+}
+
+int storageBits(const NumberFormat& format) {
+    switch (format.kind) {
+        case NumberFormat::Kind::Fp32:
+            return 32;
+        case NumberFormat::Kind::Fp16:
+        case NumberFormat::Kind::Bf16:
+            return 16;
+        case NumberFormat::Kind::Fixed:
+            return format.integerBits + format.fractionBits;
+    }
+    return 32;
 }
 
 }  // namespace patchsim

@@ -57,5 +57,10 @@ double unitInLastPlace(float x, const NumberFormat& format);
 
 // "fp32", "fp16", "bf16", "fixed16.8".
 std::string formatName(const NumberFormat& format);
+// The inverse of formatName: "fixedI.F" with I in [2, 32], F in [0, 30] and I + F <= 48. False
+// for anything else.
+bool parseNumberFormat(const std::string& name, NumberFormat& out);
+// Bits a value takes in storage: 32, 16, or I + F.
+int storageBits(const NumberFormat& format);
 
 }  // namespace patchsim

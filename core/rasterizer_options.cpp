@@ -145,6 +145,14 @@ const std::vector<RasterizerOptionField> kFields = {
          return integerIn(j, 0, 64 * 64, o.mergeTrianglesBelow);
      },
      [](const RasterizerOptions& o) { return std::to_string(o.mergeTrianglesBelow); }},
+    {"node_format", "--node-format",
+     "Format of the hierarchy's stored boxes, rounded outward: fp32, fp16, bf16 or fixedI.F",
+     [](RasterizerOptions& o, const Json& j) -> std::string {
+         if (j.is_string() && parseNumberFormat(j.get<std::string>(), o.nodeFormat)) return {};
+         return "unknown number format " + describe(j) +
+                " (fp32, fp16, bf16, or fixedI.F with I in 2..32, F in 0..30, I + F <= 48)";
+     },
+     [](const RasterizerOptions& o) { return formatName(o.nodeFormat); }},
 };
 
 }  // namespace

@@ -14,6 +14,8 @@
 #include <string>
 #include <vector>
 
+#include "core/number_format.h"
+
 namespace patchsim {
 
 enum class BranchMethod : std::uint8_t { Root, FirstSplit, Bitmask };
@@ -43,6 +45,9 @@ struct RasterizerOptions {
     // Neighbouring patches (in scene order) of at most this many triangles each are merged into
     // one hierarchy, up to a group's worth; 0: never (every patch its own hierarchy).
     int mergeTrianglesBelow = 0;
+    // The format the hierarchy's moving boxes are stored in (issue 35), each bound rounded
+    // outward so a stored box holds the exact one: fp32 stores them as built.
+    NumberFormat nodeFormat = NumberFormat::fp32();
 
     int trianglesPerGroup() const;
     // Throws InputError(source, "rasterizer.max_triangles_per_group") when the fields disagree.

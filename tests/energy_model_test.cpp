@@ -28,11 +28,13 @@ TEST(EnergyModel, TheTableHoldsHorowitzsPointsAndScalesBetweenThem) {
     EXPECT_DOUBLE_EQ(t.intAdd(8), 0.03);
     EXPECT_DOUBLE_EQ(t.intAdd(32), 0.1);
     EXPECT_DOUBLE_EQ(t.intMultiply(32), 3.1);
-    EXPECT_NEAR(t.intMultiply(8), 0.2, 0.2 * 0.04);  // the square law meets the 8-bit point
+    EXPECT_NEAR(t.intMultiply(8), 0.2, 1e-12);  // a power law through both points
+    EXPECT_NEAR(t.intMultiply(16), std::sqrt(0.2 * 3.1), 1e-12);
     EXPECT_DOUBLE_EQ(t.floatAdd(NumberFormat::fp16()), 0.4);
     EXPECT_DOUBLE_EQ(t.floatMultiply(NumberFormat::fp32()), 3.7);
     // D3D11's 16.8 snap multiplies 24-bit integers.
-    EXPECT_DOUBLE_EQ(t.floatMultiply(kD3D11Snap), 3.1 * 0.75 * 0.75);
+    EXPECT_DOUBLE_EQ(t.floatMultiply(kD3D11Snap), t.intMultiply(24));
+    EXPECT_NEAR(t.intMultiply(24), 3.1 * std::pow(0.75, std::log(15.5) / std::log(4.0)), 1e-12);
 }
 
 TEST(EnergyModel, TheProcessScaleScalesEveryEntry) {

@@ -3,7 +3,9 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <random>
+#include <string>
 
 #include "core/scene_reader.h"
 #include "tests/test_paths.h"
@@ -161,6 +163,80 @@ TEST(PatchHierarchy, BytesAreNodesAndLeafLists) {
     EXPECT_EQ(h.levelOf(0), 0);
     EXPECT_EQ(h.levelOf(2), 1);
     EXPECT_EQ(h.levelOf(PatchHierarchy::firstLeaf(3)), 3);
+    h.storeNodesIn(NumberFormat::fp16());  // 12 bounds of 16 bits a node
+    EXPECT_EQ(h.bytes(), 15 * 24 + 32 * 2 + 9 * 2);
+    h.storeNodesIn(NumberFormat::fixed(10, 6));
+    EXPECT_EQ(h.bytes(), 15 * 24 + 32 * 2 + 9 * 2);
+}
+
+// Vertices (at either shutter end) outside their leaf's stored box.
+int verticesOutsideTheirLeaf(const PatchHierarchy& h, const MovingMesh& mesh) {
+    int outside = 0;
+    for (int j = 0; j < h.leafCount(); ++j) {
+        const LBBox& box = h.node(PatchHierarchy::firstLeaf(h.depth()) + j);
+        std::size_t count = 0;
+        const std::uint32_t* triangles = h.leafTriangles(j, count);
+        for (std::size_t k = 0; k < count; ++k)
+            for (int c = 0; c < 3; ++c) {
+                const std::uint32_t v =
+                    mesh.indices[3 * std::size_t(triangles[k]) + std::size_t(c)];
+                outside += !contains(box.bounds0, {mesh.position0[v], mesh.position0[v]});
+                outside += !contains(box.bounds1, {mesh.position1[v], mesh.position1[v]});
+            }
+    }
+    return outside;
+}
+
+// Issue 35: boxes stored in a narrower format, each bound rounded outward, hold the exact boxes
+// and are the format's values; the naive variant (round to nearest) cuts vertices off their
+// leaves, so samples that hit those corners would be lost.
+TEST(PatchHierarchy, BoxesStoredInANarrowerFormatRoundOutward) {
+    const MovingMesh mesh = movingGrid(8, 11);  // 128 triangles, coordinates up to 10
+    std::vector<std::uint32_t> all(128);
+    for (std::size_t k = 0; k < all.size(); ++k) all[k] = std::uint32_t(k);
+    PatchHierarchy exact;
+    exact.build(mesh, all.data(), all.size(), 2);
+    for (const NumberFormat format : {NumberFormat::fp16(), NumberFormat::bf16(),
+                                      NumberFormat::fixed(8, 4), NumberFormat::fixed(4, 8)}) {
+        const std::string name = formatName(format);
+        PatchHierarchy stored = exact;
+        stored.storeNodesIn(format);
+        EXPECT_EQ(stored.nodeFormat(), format);
+        int widened = 0, unbounded = 0;
+        for (int i = 0; i < exact.nodeCount(); ++i) {
+            for (const auto& [outer, inner] :
+                 {std::pair{stored.node(i).bounds0, exact.node(i).bounds0},
+                  std::pair{stored.node(i).bounds1, exact.node(i).bounds1}}) {
+                ASSERT_TRUE(contains(outer, inner)) << name << " node " << i;
+                for (int a = 0; a < 3; ++a)
+                    for (const float v : {outer.lower[a], outer.upper[a]}) {
+                        if (std::isinf(v)) {
+                            ++unbounded;
+                            continue;
+                        }
+                        EXPECT_EQ(roundTo(v, format), v) << name;
+                    }
+                widened += outer.lower != inner.lower || outer.upper != inner.upper;
+            }
+        }
+        EXPECT_GT(widened, 0) << name;
+        EXPECT_EQ(verticesOutsideTheirLeaf(stored, mesh), 0) << name;
+        // fixed4.8 holds [-8, 8): the grid's far side (up to 10) is out of range, so those bounds
+        // open to infinity instead of saturating inward.
+        EXPECT_EQ(unbounded > 0, format == NumberFormat::fixed(4, 8)) << name;
+
+        PatchHierarchy naive = exact;
+        naive.storeNodesIn(format, Rounding::Nearest);
+        if (format.kind != NumberFormat::Kind::Fixed || format.integerBits > 4) {
+            EXPECT_GT(verticesOutsideTheirLeaf(naive, mesh), 0) << name << " rounded to nearest";
+        }
+    }
+    PatchHierarchy same = exact;
+    same.storeNodesIn(NumberFormat::fp32());
+    for (int i = 0; i < exact.nodeCount(); ++i) {
+        EXPECT_EQ(same.node(i).bounds0.lower, exact.node(i).bounds0.lower);
+        EXPECT_EQ(same.node(i).bounds1.upper, exact.node(i).bounds1.upper);
+    }
 }
 
 }  // namespace

@@ -91,6 +91,15 @@ TEST(PatchRasterizer, EveryOptionGivesTheReferenceVisibility) {
     o = {};
     o.mergeTrianglesBelow = 64;
     variants.push_back({"merged below 64", o});
+    // Boxes stored in narrower formats, rounded outward (issue 35), in every bounds space.
+    for (const char* format : {"fp16", "bf16", "fixed12.6"})
+        for (BoundsSpace space :
+             {BoundsSpace::Camera3D, BoundsSpace::Homogeneous2D, BoundsSpace::Screen2D}) {
+            o = {};
+            ASSERT_TRUE(parseNumberFormat(format, o.nodeFormat));
+            o.boundsSpace = space;
+            variants.push_back({std::string(format) + " " + boundsSpaceName(space), o});
+        }
     for (const auto& [name, options] : variants) {
         SceneDesc scene = base;
         scene.rasterizer = options;

@@ -142,6 +142,7 @@ RenderResult renderScene(const SceneDesc& scene, const RenderOptions& options) {
     const VisibilityMethod& method = options.visibilityMethod();
     const int workers = resolveThreadCount(options.threads);
     RenderResult result;
+    if (method.rasterizesPatches()) result.nodeFormat = scene.rasterizer.nodeFormat;
     const FrontEnd frontEnd(scene, workers);
     const FrontEndOutput fe = frontEndStages(frontEnd, options, workers, result);
 
@@ -210,7 +211,8 @@ FrameTiming timeFrame(const RenderResult& result, const HardwareConfig& hardware
     }
     t.memoryNotModelled = hardware.memory && !result.memoryTrace;
     t.timing = simulateTiming(result.patchOps, hardware, t.memory ? &*t.memory : nullptr);
-    t.energy = estimateEnergy(result.patchOps, hardware, t.memory ? &*t.memory : nullptr);
+    t.energy = estimateEnergy(result.patchOps, hardware, t.memory ? &*t.memory : nullptr,
+                              result.nodeFormat);
     return t;
 }
 

@@ -26,7 +26,7 @@ constexpr Entry kEntries[] = {
         {"process_scale", &EnergyTable::processScale},
 };
 
-constexpr double kEntryMax = 1e9;  // picojoules, or the scale factor
+constexpr double kEntryMin = 1e-12, kEntryMax = 1e9;  // picojoules, or the scale factor
 
 double linear(double x, double x0, double y0, double x1, double y1) {
     return y0 + (x - x0) * (y1 - y0) / (x1 - x0);
@@ -43,9 +43,10 @@ double EnergyTable::intAdd(int bits) const {
 }
 
 double EnergyTable::intMultiply(int bits) const {
-    // An array multiplier's area and energy grow with the square of its width; the table's
-    // 8-bit point (0.2 pJ) is within 4% of 3.1 pJ / 16.
-    return processScale * int32Multiply * (bits / 32.0) * (bits / 32.0);
+    // A power of the width through the 8- and 32-bit points: an array multiplier's energy grows
+    // about with the square of its width (Horowitz's points give an exponent of 1.98).
+    const double exponent = std::log(int32Multiply / int8Multiply) / std::log(4.0);
+    return processScale * int32Multiply * std::pow(bits / 32.0, exponent);
 }
 
 double EnergyTable::floatAdd(const NumberFormat& f) const {
@@ -84,14 +85,14 @@ double EnergyTable::sramRead64(double sizeBytes) const {
     return processScale * std::exp(y);
 }
 
-double opPicojoules(Op op, const EnergyTable& table, double scratchBytes) {
+double opPicojoules(Op op, const EnergyTable& table, double scratchBytes, double operandScale) {
     const OpArithmetic& a = opArithmetic(op);
     const NumberFormat fp32 = NumberFormat::fp32();
     double pj = (a.adds + a.compares) * table.floatAdd(fp32) +
                 (a.multiplies + 4 * a.divides) * table.floatMultiply(fp32) +
                 a.intAdds * table.intAdd(a.intBits) +
                 a.intMultiplies * table.intMultiply(a.intBits) +
-                a.operandBytes / 8 * table.sramRead64(scratchBytes);
+                a.operandBytes * operandScale / 8 * table.sramRead64(scratchBytes);
     if (isProgrammable(stageOf(op)))
         pj += a.operations() * table.processScale * table.shaderOverhead;
     return pj;
@@ -110,17 +111,23 @@ double EnergyReport::memoryTotalPicojoules() const {
 }
 
 EnergyReport estimateEnergy(const std::vector<PatchOps>& patches, const HardwareConfig& hardware,
-                            const MemoryReport* memory) {
+                            const MemoryReport* memory, const NumberFormat& nodeFormat) {
     static_assert(kEnergyMemoryParts == kCacheClients + 1);
     PatchOps total;
     for (const PatchOps& p : patches) total.add(p);
     EnergyReport report;
     report.table = hardware.energy;
+    report.nodeFormat = nodeFormat;
     const EnergyTable& table = hardware.energy;
-    for (int k = 0; k < kOpCount; ++k)
-        report.stagePicojoules[std::size_t(stageOf(Op(k)))] +=
-            total.ops[std::size_t(k)] *
-            opPicojoules(Op(k), table, double(hardware.scratchBudgetBytes));
+    const double nodeScale = storageBits(nodeFormat) / 32.0;
+    for (int k = 0; k < kOpCount; ++k) {
+        const Op op = Op(k);
+        const bool readsNodes =
+            op == Op::NodesBuilt || op == Op::PlaneTests || op == Op::RayBoxTests;
+        report.stagePicojoules[std::size_t(stageOf(op))] +=
+            total.ops[std::size_t(k)] * opPicojoules(op, table, double(hardware.scratchBudgetBytes),
+                                                     readsNodes ? nodeScale : 1.0);
+    }
     report.triangles = total[Op::Triangles];
     if (!memory) return report;
     report.memoryModelled = true;
@@ -138,7 +145,7 @@ EnergyReport estimateEnergy(const std::vector<PatchOps>& patches, const Hardware
 EnergyTable readEnergyTable(ObjectReader reader) {
     EnergyTable table;
     for (const Entry& e : kEntries)
-        table.*e.member = reader.number(e.key, table.*e.member, 1e-12, kEntryMax);
+        table.*e.member = reader.number(e.key, table.*e.member, kEntryMin, kEntryMax);
     reader.finish();
     return table;
 }
@@ -148,7 +155,11 @@ void setEnergyEntry(EnergyTable& table, const std::string& key, const nlohmann::
     for (const Entry& e : kEntries) {
         if (key != e.key) continue;
         Json section = {{key, value}};
-        table.*e.member = ObjectReader(section, "", source).number(key, 0, 1e-12, kEntryMax);
+        try {
+            table.*e.member = ObjectReader(section, "", source).number(key, 0, kEntryMin, kEntryMax);
+        } catch (const InputError& error) {  // the caller's name for the field
+            throw InputError(source, field, error.message());
+        }
         return;
     }
     throw InputError(source, field, "unknown hardware parameter 'energy." + key + "'");
@@ -183,6 +194,7 @@ nlohmann::ordered_json energyReportJson(const EnergyReport& report) {
         report.triangles > 0
             ? report.stagePicojoules[std::size_t(Stage::RS)] / 1e3 / report.triangles
             : 0.0;
+    json["node_format"] = formatName(report.nodeFormat);
     json["table"] = energyTableJson(report.table);
     return json;
 }

@@ -11,7 +11,7 @@
 // arithmetic operation (instruction fetch, decode and register file), with one factor that
 // scales every entry to another process node. Between and beyond its points an SRAM's access
 // energy follows the size on a log-log line; an integer add's energy is linear in its width and
-// a multiply's quadratic (an array multiplier), through the table's points.
+// a multiply's a power of it (about the square: an array multiplier), through the table's points.
 //
 // `OpArithmetic` is what one operation of a kind (core/stage_ops.h) does in the functional code:
 // floating-point adds, multiplies, compares (a min, max or select counts one) and divides (a
@@ -90,8 +90,9 @@ struct OpArithmetic {
 const OpArithmetic& opArithmetic(Op op);
 bool isProgrammable(Stage s);  // VS, HS, DS and PS run shaders
 
-// Picojoules of one operation of `op` on `table` (its format fp32, the scratch `scratchBytes`).
-double opPicojoules(Op op, const EnergyTable& table, double scratchBytes);
+// Picojoules of one operation of `op` on `table` (its arithmetic in fp32, the scratch
+// `scratchBytes`, its operand bytes times `operandScale`).
+double opPicojoules(Op op, const EnergyTable& table, double scratchBytes, double operandScale = 1);
 
 struct EnergyReport {
     std::array<double, kStageCount> stagePicojoules{};
@@ -99,6 +100,7 @@ struct EnergyReport {
     bool memoryModelled = false;
     double triangles = 0;  // the tessellator's, for the energy per triangle
     EnergyTable table;     // what the frame was priced at
+    NumberFormat nodeFormat;
 
     double computePicojoules() const;
     double memoryTotalPicojoules() const;
@@ -106,9 +108,12 @@ struct EnergyReport {
 };
 
 // The frame's energy from its counted operations (summed over patches) and, when given, its
-// memory traffic.
+// memory traffic. The hierarchy's boxes in `nodeFormat` (RasterizerOptions::nodeFormat): the
+// operations that read or write them (nodes_built, plane_tests, ray_box_tests) move that many
+// bits a bound instead of 32.
 EnergyReport estimateEnergy(const std::vector<PatchOps>& patches, const HardwareConfig& hardware,
-                            const MemoryReport* memory);
+                            const MemoryReport* memory,
+                            const NumberFormat& nodeFormat = NumberFormat::fp32());
 
 // The hardware file's optional "energy" section: any entry by its key (PATCHSIM_ENERGY_ENTRIES)
 // and "process_scale", each finite and positive; the rest keep their defaults. Throws InputError

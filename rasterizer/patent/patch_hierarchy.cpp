@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <bit>
+#include <cmath>
+#include <limits>
 
 namespace patchsim {
 
@@ -115,6 +117,7 @@ void PatchHierarchy::build(const MovingMesh& mesh, const std::uint32_t* triangle
 void PatchHierarchy::buildOrdered(const MovingMesh& mesh, const std::uint32_t* triangles,
                                   std::size_t count, int leafSize, const LeafVertexTable* shared) {
     depth_ = depthFor(count, leafSize);
+    nodeFormat_ = NumberFormat::fp32();
     triangles_.assign(triangles, triangles + count);
     const int leaves = 1 << depth_;
     nodes_.assign(std::size_t(2 * leaves - 1), LBBox{});
@@ -164,9 +167,41 @@ LeafVertexTable leafVertexTable(const MovingMesh& mesh, const std::uint32_t* tri
     return table;
 }
 
+namespace {
+
+// `x` stored in `format`, toward `outward` (-1 down, +1 up), or with `nearest` to the nearest.
+float stored(float x, const NumberFormat& format, int outward, bool nearest) {
+    if (!std::isfinite(x)) return x;  // an empty leaf's box stays empty
+    if (!representable(x, format)) return float(outward) * std::numeric_limits<float>::infinity();
+    return roundTo(x, format,
+                   nearest       ? Rounding::Nearest
+                   : outward < 0 ? Rounding::Down
+                                 : Rounding::Up);
+}
+
+void storeBox(Box3& box, const NumberFormat& format, bool nearest) {
+    for (int axis = 0; axis < 3; ++axis) {
+        box.lower[axis] = stored(box.lower[axis], format, -1, nearest);
+        box.upper[axis] = stored(box.upper[axis], format, +1, nearest);
+    }
+}
+
+}  // namespace
+
+void PatchHierarchy::storeNodesIn(const NumberFormat& format, Rounding rounding) {
+    nodeFormat_ = format;
+    if (format == NumberFormat::fp32()) return;
+    const bool nearest = rounding == Rounding::Nearest;
+    for (LBBox& node : nodes_) {
+        storeBox(node.bounds0, format, nearest);
+        storeBox(node.bounds1, format, nearest);
+    }
+}
+
 std::size_t PatchHierarchy::bytes() const {
-    return nodes_.size() * sizeof(LBBox) + triangles_.size() * sizeof(std::uint16_t) +
-           leafBegin_.size() * sizeof(std::uint16_t);
+    constexpr std::size_t kBoundsPerNode = 12;  // two boxes of two corners of three coordinates
+    return nodes_.size() * kBoundsPerNode * std::size_t(storageBits(nodeFormat_)) / 8 +
+           triangles_.size() * sizeof(std::uint16_t) + leafBegin_.size() * sizeof(std::uint16_t);
 }
 
 }  // namespace patchsim

@@ -21,6 +21,7 @@
 #include <vector>
 
 #include "core/lbbox.h"
+#include "core/number_format.h"
 #include "core/rasterizer_options.h"
 #include "rasterizer/common/moving_mesh.h"
 
@@ -87,10 +88,21 @@ class PatchHierarchy {
     // Bytes the hierarchy would occupy on chip: node boxes plus leaf triangle lists. (The vertex
     // table above is how the simulator lays out a leaf for its SIMD kernels, not modelled
     // storage: the triangle lists already say which vertices a leaf reads.)
+    // Node boxes at nodeFormat()'s storage bits.
     std::size_t bytes() const;
+
+    // Stores every node's box in `format` (issue 35): each lower bound rounded down and each
+    // upper bound up (Rounding::Down), so the stored box holds the built one at both shutter ends
+    // and, the blend being monotone in its ends, at every time between: the tile and ray tests
+    // reject nothing more than with the exact boxes, they only accept more. A bound a fixed-point
+    // format cannot hold becomes infinite (open on that side). `Rounding::Nearest` is the naive
+    // variant, kept for the test that shows it loses samples; it is no option of the render.
+    void storeNodesIn(const NumberFormat& format, Rounding rounding = Rounding::Down);
+    const NumberFormat& nodeFormat() const { return nodeFormat_; }
 
   private:
     int depth_ = 0;
+    NumberFormat nodeFormat_;
     std::vector<LBBox> nodes_;
     std::vector<std::uint32_t> triangles_;
     std::vector<std::uint32_t> leafBegin_;

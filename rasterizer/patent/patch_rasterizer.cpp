@@ -25,6 +25,7 @@ void PatchRasterizer::prepareGroup(const MovingMesh& mesh, const std::uint32_t* 
                                    std::size_t count, Group& group, RasterWork& work,
                                    const LeafVertexTable* leafTable) const {
     group.hierarchy.buildOrdered(mesh, triangles, count, options_.leafSize, leafTable);
+    group.hierarchy.storeNodesIn(options_.nodeFormat);
     ++work.groups;
     work.nodesBuilt += group.hierarchy.nodeCount();
     const auto bytes = std::int64_t(group.hierarchy.bytes());
