@@ -74,6 +74,9 @@ TEST(CliBadInput, EmptyPathsAreRefusedNotTakenForAFolder) {
     expectRefused("verify-tiles --replay ''", "--replay: empty value");
     expectRefused("verify-tiles --cases 10 --csv ''", "--csv: empty output file name");
     expectRefused("verify-tiles --cases 10 --summary ''", "--summary: empty output file name");
+    expectRefused("verify-tiles --cases 10 --format fp8", "--format: 'fp8' is not a reduced");
+    expectRefused("verify-tiles --cases 10 --format fp16,fixed1.4", "--format: 'fixed1.4' is not");
+    expectRefused("verify-tiles --cases 10 --format fp32", "--format: 'fp32' is not a reduced");
     expectRefused("info ''", "scene: empty file name");
 }
 

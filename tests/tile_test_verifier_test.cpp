@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <memory>
 #include <set>
 #include <sstream>
 
@@ -40,6 +41,35 @@ TEST(TileTestVerifier, ReducedPrecisionBoundsRejectFalselyOnlyWhenRoundedToNeare
     EXPECT_GT(find("patent-2d-time-bf16-naive", CaseModel::Pinhole).falseRejects +
                   find("patent-2d-time-bf16-naive", CaseModel::Lens).falseRejects,
               0);
+}
+
+// The render's node_format site: the box stored as the hierarchy stores its nodes. Rounded
+// outward, no false reject in any format, fixed point included; rounded to nearest, false
+// rejects that the run reports without failing (a lossy variant). verify-tiles --format makes
+// both for each site.
+TEST(TileTestVerifier, StoredNodeBoxesRejectFalselyOnlyWhenRoundedToNearest) {
+    std::vector<std::unique_ptr<ScopedTileTest>> scoped;
+    for (const NumberFormat format : {NumberFormat::fp16(), NumberFormat::fixed(16, 8)})
+        for (auto& variant : formatTileTests(format))
+            scoped.push_back(std::make_unique<ScopedTileTest>(std::move(variant)));
+    const TileVerifierResult result = verify(3000, 42);
+    std::int64_t naiveRejects = 0;
+    int seen = 0;
+    for (const TileTestReport& r : result.reports) {
+        if (r.name.rfind("patent-3d-time-nodes-", 0) != 0) continue;
+        ++seen;
+        const bool naive = r.name.ends_with("-naive");
+        EXPECT_EQ(r.lossy, naive) << r.name;
+        if (naive)
+            naiveRejects += r.falseRejects;
+        else
+            EXPECT_EQ(r.falseRejects, 0) << r.name << " " << caseModelName(r.model);
+    }
+    EXPECT_EQ(seen, 8);  // 2 formats x outward and naive x pinhole and lens
+    EXPECT_GT(naiveRejects, 0);
+    EXPECT_FALSE(result.anyFalseReject()) << "a lossy variant's rejects fail the run";
+    EXPECT_EQ(formatTileTests(NumberFormat::fp16()).size(), 4u);        // both sites
+    EXPECT_EQ(formatTileTests(NumberFormat::fixed(16, 8)).size(), 2u);  // the nodes' only
 }
 
 TEST(TileTestVerifier, EveryVariantAndCheckIsListedAndNeverRejectsFalsely) {

@@ -8,6 +8,7 @@
 #include <iostream>
 #include <map>
 #include <nlohmann/json.hpp>
+#include <sstream>
 
 #include "backend/images/heat_map.h"
 #include "backend/images/image.h"
@@ -635,10 +636,33 @@ void printVerifyReport(const TileVerifierResult& result, std::uint64_t seed) {
               << " sampled hits, " << result.witnessOutsideTruth << " outside the exact truth\n";
 }
 
+// --format's variants, registered for the run (those already registered are kept as they are).
+std::vector<std::unique_ptr<ScopedTileTest>> registerFormatTileTests(const std::string& list) {
+    std::vector<std::unique_ptr<ScopedTileTest>> scoped;
+    if (list.empty()) return scoped;
+    const std::string formats = list == "all" ? "fp16,bf16,fixed16.8" : list;
+    std::stringstream items(formats);
+    for (std::string item; std::getline(items, item, ',');) {
+        NumberFormat format;
+        if (!parseNumberFormat(item, format) || format == NumberFormat::fp32())
+            throw InputError("command line", "--format",
+                             "'" + item + "' is not a reduced number format (fp16, bf16, " +
+                                 "fixedI.F with I in 2..32, F in 0..30, I + F <= 48; or all)");
+        for (auto& variant : formatTileTests(format)) {
+            const bool known =
+                std::any_of(registeredTileTests().begin(), registeredTileTests().end(),
+                            [&](const auto& v) { return v->name() == variant->name(); });
+            if (!known) scoped.push_back(std::make_unique<ScopedTileTest>(std::move(variant)));
+        }
+    }
+    return scoped;
+}
+
 }  // namespace
 
 int runVerifyTiles(const JobSettings& s) {
     const auto seed = std::uint64_t(s.seed);
+    const auto formatVariants = registerFormatTileTests(s.formats);
     if (!s.replay.empty()) {
         if (!replayTileCase(s.replay, seed, std::cout))
             throw InputError(

@@ -69,6 +69,7 @@ struct JobSettings {
     std::int64_t cases = 2000, seed = 1;
     int witnessEvery = 64;
     std::string csv, summary, replay;
+    std::string formats;  // --format: number formats whose variants join the run
     // sweep
     std::vector<std::string> methods;
     std::vector<int> sppList;

@@ -188,14 +188,18 @@ void storeBox(Box3& box, const NumberFormat& format, bool nearest) {
 
 }  // namespace
 
+LBBox storedIn(const LBBox& box, const NumberFormat& format, Rounding rounding) {
+    LBBox stored = box;
+    if (format == NumberFormat::fp32()) return stored;
+    storeBox(stored.bounds0, format, rounding == Rounding::Nearest);
+    storeBox(stored.bounds1, format, rounding == Rounding::Nearest);
+    return stored;
+}
+
 void PatchHierarchy::storeNodesIn(const NumberFormat& format, Rounding rounding) {
     nodeFormat_ = format;
     if (format == NumberFormat::fp32()) return;
-    const bool nearest = rounding == Rounding::Nearest;
-    for (LBBox& node : nodes_) {
-        storeBox(node.bounds0, format, nearest);
-        storeBox(node.bounds1, format, nearest);
-    }
+    for (LBBox& node : nodes_) node = storedIn(node, format, rounding);
 }
 
 std::size_t PatchHierarchy::bytes() const {

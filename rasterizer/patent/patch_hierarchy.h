@@ -113,6 +113,11 @@ class PatchHierarchy {
     const LeafVertexTable& leafTable() const { return sharedTable_ ? *sharedTable_ : ownTable_; }
 };
 
+// `box` as PatchHierarchy::storeNodesIn stores a node in `format`: with Rounding::Down each
+// lower bound rounded down and each upper bound up (a fixed-point bound out of range opened to
+// infinity), with Rounding::Nearest every bound to its nearest value (the naive variant).
+LBBox storedIn(const LBBox& box, const NumberFormat& format, Rounding rounding);
+
 // The leaf vertex table of a group's triangles in build order (the hierarchy buildOrdered makes).
 LeafVertexTable leafVertexTable(const MovingMesh& mesh, const std::uint32_t* triangles,
                                 std::size_t count, int leafSize);

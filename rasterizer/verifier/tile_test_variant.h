@@ -45,6 +45,9 @@ class TileTestVariant {
     virtual std::string name() const = 0;
     virtual bool handlesPinhole() const { return true; }
     virtual bool handlesLens() const { return true; }
+    // A naive variant kept to show what goes wrong without a rule (rounding to nearest): its
+    // false rejects are reported, and do not fail the run.
+    virtual bool lossy() const { return false; }
     virtual TileTestOutput run(const TileTestInput& input) const = 0;
 };
 
@@ -76,6 +79,12 @@ void addLiteratureTileTests(std::vector<std::unique_ptr<TileTestVariant>>& out);
 // for tests).
 std::unique_ptr<TileTestVariant> makeReducedScreenTileTest(const NumberFormat& format,
                                                            bool outward);
+// The 3D camera-space test with time refinement on the moving box as the render stores it with
+// `rasterizer.node_format` = `format` (storedIn): rounded outward, or to nearest (lossy).
+std::unique_ptr<TileTestVariant> makeStoredNodeTileTest(const NumberFormat& format, bool outward);
+// For `verify-tiles --format`: every site's variants in `format`, outward and naive (the screen
+// bounds' for float formats only: they are in units of the z = -1 plane, not pixels).
+std::vector<std::unique_ptr<TileTestVariant>> formatTileTests(const NumberFormat& format);
 
 enum class CaseModel : std::uint8_t { Pinhole, Lens, Hierarchy };
 const char* caseModelName(CaseModel model);

@@ -4,6 +4,7 @@
 // call the same functions the patch rasterizer's traversal does.
 
 #include "core/number_format.h"
+#include "rasterizer/patent/patch_hierarchy.h"
 #include "rasterizer/patent/projected_bounds.h"
 #include "rasterizer/patent/tile_frustum.h"
 #include "rasterizer/verifier/tile_test_variant.h"
@@ -93,6 +94,33 @@ class ReducedScreenTest : public TileTestVariant {
         return out;
     }
 
+    bool lossy() const override { return !outward_; }
+
+  private:
+    NumberFormat format_;
+    bool outward_;
+};
+
+// The render's node_format site (issue 35): the box stored in `format` as PatchHierarchy stores
+// its nodes, then the fp32 3D test with time refinement. Rounded outward the stored box holds the
+// exact one at every time, and the test is monotone in the box: no false reject.
+class StoredNodeTest : public TileTestVariant {
+  public:
+    StoredNodeTest(NumberFormat format, bool outward) : format_(format), outward_(outward) {}
+    std::string name() const override {
+        return "patent-3d-time-nodes-" + formatName(format_) + (outward_ ? "" : "-naive");
+    }
+    TileTestOutput run(const TileTestInput& in) const override {
+        RasterWork work;
+        TileTestOutput out;
+        const TileFrustum f = makeTileFrustum(*in.camera, in.lens, in.tile, in.camera->farPlane());
+        const LBBox stored =
+            storedIn(in.box, format_, outward_ ? Rounding::Down : Rounding::Nearest);
+        out.accept = leafTimeInterval(f, stored, out.times, work);
+        return out;
+    }
+    bool lossy() const override { return !outward_; }
+
   private:
     NumberFormat format_;
     bool outward_;
@@ -112,6 +140,21 @@ void addPatentTileTests(std::vector<std::unique_ptr<TileTestVariant>>& out) {
 std::unique_ptr<TileTestVariant> makeReducedScreenTileTest(const NumberFormat& format,
                                                            bool outward) {
     return std::make_unique<ReducedScreenTest>(format, outward);
+}
+
+std::unique_ptr<TileTestVariant> makeStoredNodeTileTest(const NumberFormat& format, bool outward) {
+    return std::make_unique<StoredNodeTest>(format, outward);
+}
+
+std::vector<std::unique_ptr<TileTestVariant>> formatTileTests(const NumberFormat& format) {
+    std::vector<std::unique_ptr<TileTestVariant>> out;
+    if (format == NumberFormat::fp32()) return out;
+    for (bool outward : {true, false}) {
+        if (format.kind != NumberFormat::Kind::Fixed)
+            out.push_back(makeReducedScreenTileTest(format, outward));
+        out.push_back(makeStoredNodeTileTest(format, outward));
+    }
+    return out;
 }
 
 }  // namespace patchsim

@@ -41,7 +41,7 @@ double ExcessHistogram::quantile(double q) const {
 
 bool TileVerifierResult::anyFalseReject() const {
     return std::any_of(reports.begin(), reports.end(),
-                       [](const TileTestReport& r) { return r.falseRejects > 0; }) ||
+                       [](const TileTestReport& r) { return r.falseRejects > 0 && !r.lossy; }) ||
            witnessOutsideTruth > 0;
 }
 
@@ -321,8 +321,10 @@ std::vector<TileTestReport> emptyReports(CaseModel model) {
         return reports;
     }
     for (const auto& v : registeredTileTests())
-        if (model == CaseModel::Lens ? v->handlesLens() : v->handlesPinhole())
+        if (model == CaseModel::Lens ? v->handlesLens() : v->handlesPinhole()) {
             reports.push_back(emptyReport(v->name(), model));
+            reports.back().lossy = v->lossy();
+        }
     return reports;
 }
 

@@ -60,6 +60,7 @@ struct TileTestReport {
     ExcessHistogram excess;
     const char* excessUnit = "shutter";  // "shutter" (time interval) or "levels" (branch node)
     std::string firstFailure;            // the first falsely rejected case ("lens:1234"), if any
+    bool lossy = false;  // a naive variant: its false rejects are reported, not a failure
     double falseAcceptPercent() const {  // of the true misses
         return trueMisses ? 100.0 * double(falseAccepts) / double(trueMisses) : 0.0;
     }
@@ -77,7 +78,7 @@ struct TileVerifierResult {
     std::vector<TileTestReport> reports;
     std::int64_t witnessCases = 0, witnessHits = 0;
     std::int64_t witnessOutsideTruth = 0;  // sampled hits the exact truth misses: must be 0
-    bool anyFalseReject() const;
+    bool anyFalseReject() const;           // of a variant that is not lossy, or a witness
 };
 
 TileVerifierResult verifyTileTests(const TileVerifierOptions& options);
