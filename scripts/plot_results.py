@@ -12,8 +12,9 @@ SWEEP_DIR/images, beside the converged image, where the runs disagree most).
 explore: per grid parameter, OUT_DIR/cycles_vs_<parameter>.png and .svg (modelled cycles against
 the parameter, one panel per scene, one line per setting of the other parameters, or their median
 and min-max band when there are many); per pair of parameters, OUT_DIR/heatmap_<a>_x_<b>.png and
-.svg (cycles of every cell, the best over the other parameters, with its bottleneck stage). The
-marker of every point is its bottleneck stage.
+.svg (cycles of every cell, the best over the other parameters, with its bottleneck stage); and
+OUT_DIR/energy_vs_cycles.png and .svg (every point's modelled energy against its cycles, the
+Pareto front labelled). The marker of every point is its bottleneck stage.
 
 Both binaries write a copy of this script next to their plots, so it can be rerun on the CSV.
 Needs matplotlib and numpy (Debian: python3-matplotlib).
@@ -422,6 +423,40 @@ def heat_map(data, a, b, out_dir):
     return save(fig, out_dir, f"heatmap_{file_name(a)}_x_{file_name(b)}")
 
 
+def energy(row):
+    return float(row["energy_nj"]) / 1e3  # microjoules
+
+
+def energy_against_cycles(data, out_dir):
+    """Every grid point's modelled energy against its cycles, the Pareto front of the two."""
+    fig, axes = panels(len(data.scenes), 5.6, 4.2)
+    for ax, scene in zip(axes, data.scenes):
+        rows = data.of(scene)
+        xs = [cycles(r) for r in rows]
+        for stage in in_order(r["bottleneck"] for r in rows):
+            mine = [(cycles(r), energy(r)) for r in rows if r["bottleneck"] == stage]
+            ax.scatter(*zip(*mine), marker=STAGE_MARKERS.get(stage, "o"), zorder=3,
+                       color=STAGE_COLOURS.get(stage, "0.4"))
+        points = [(x, energy(r)) for x, r in zip(xs, rows)]
+        front = pareto(points)
+        ax.plot([points[i][0] for i in front], [points[i][1] for i in front], color="black",
+                linestyle=":", linewidth=1.5)
+        for i in front:
+            label = ", ".join(f"{p} {rows[i][p]}" for p in data.parameters)
+            ax.annotate(label, points[i], textcoords="offset points", xytext=(4, 4), fontsize=6)
+        eng_axis(ax.xaxis)
+        eng_axis(ax.yaxis)
+        ax.set_xlabel(CYCLES)
+        ax.set_ylabel("modelled energy per frame (uJ)")
+        ax.grid(True, alpha=0.3)
+        ax.set_title(scene, fontsize=10)
+    fig.suptitle("Modelled energy against cycles (dotted: the Pareto front)", fontsize=12)
+    below(fig, stage_handles(data.stages, True),
+          "Each point a grid point; labelled, those on the front. Energy is the arithmetic's "
+          "only when the hardware file models no memory.")
+    return save(fig, out_dir, "energy_vs_cycles")
+
+
 def explore(csv_path, out_dir):
     rows = read_rows(csv_path)
     if not rows:
@@ -434,6 +469,8 @@ def explore(csv_path, out_dir):
         written += cycles_against(data, parameter, out_dir)
     for a, b in combinations(data.parameters, 2):
         written += heat_map(data, a, b, out_dir)
+    if data.parameters and all(r.get("energy_nj") for r in rows):
+        written += energy_against_cycles(data, out_dir)
     return written
 
 

@@ -522,8 +522,8 @@ TEST(Cli, ExplorePlotsCyclesAndAHeatMapAndTheCsvNamesTheBottleneck) {
         GTEST_SKIP() << "no python3 with matplotlib and numpy (Debian: python3-matplotlib, "
                         "scripts/install-deps.sh): the plots were not drawn";
     EXPECT_NE(r.output.find("wrote the plots in " + dir + "/plots"), std::string::npos) << r.output;
-    for (const char* name :
-         {"cycles_vs_tile_size", "cycles_vs_leaf_size", "heatmap_tile_size_x_leaf_size"}) {
+    for (const char* name : {"cycles_vs_tile_size", "cycles_vs_leaf_size",
+                             "heatmap_tile_size_x_leaf_size", "energy_vs_cycles"}) {
         const std::string png = readFile(dir + "/plots/" + name + ".png");
         EXPECT_EQ(png.substr(0, 4), "\x89PNG") << name << "\n"
                                                << readFile(dir + "/plots/plots.log");
