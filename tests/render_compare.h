@@ -20,7 +20,9 @@ Comparison compare(const RenderResult& a, const RenderResult& b);
 // Renders with the patch method (1 and 2 threads, twice) and the reference method, and checks:
 // no NaN or Inf in any depth, image or AOV; the patch method equals the reference sample for
 // sample (so it never rejects a sample that holds a hit); identical images and counters for 1
-// and 2 threads and across runs. Returns the patch render's comparison with the reference.
+// and 2 threads and across runs; and the same samples with the hierarchy's boxes stored in fp16,
+// bf16 and fixed16.8 (rasterizer.node_format). Returns the patch render's comparison with the
+// reference.
 Comparison expectStableAndExact(const SceneDesc& scene, const std::string& what);
 
 }  // namespace patchsim::test
