@@ -70,6 +70,13 @@ std::string describe(const Json& j) {
     return quoted;
 }
 
+// A number format's name (core/number_format.h), or an error message.
+std::string numberFormat(const Json& j, NumberFormat& out) {
+    if (j.is_string() && parseNumberFormat(j.get<std::string>(), out)) return {};
+    return "unknown number format " + describe(j) +
+           " (fp32, fp16, bf16, or fixedI.F with I in 2..32, F in 0..30, I + F <= 48)";
+}
+
 // An integer in [lo, hi] (a JSON number without fraction), or an error message.
 std::string integerIn(const Json& j, int lo, int hi, int& out) {
     if (!j.is_number_integer())
@@ -147,12 +154,13 @@ const std::vector<RasterizerOptionField> kFields = {
      [](const RasterizerOptions& o) { return std::to_string(o.mergeTrianglesBelow); }},
     {"node_format", "--node-format",
      "Format of the hierarchy's stored boxes, rounded outward: fp32, fp16, bf16 or fixedI.F",
-     [](RasterizerOptions& o, const Json& j) -> std::string {
-         if (j.is_string() && parseNumberFormat(j.get<std::string>(), o.nodeFormat)) return {};
-         return "unknown number format " + describe(j) +
-                " (fp32, fp16, bf16, or fixedI.F with I in 2..32, F in 0..30, I + F <= 48)";
-     },
+     [](RasterizerOptions& o, const Json& j) { return numberFormat(j, o.nodeFormat); },
      [](const RasterizerOptions& o) { return formatName(o.nodeFormat); }},
+    {"vertex_format", "--vertex-format",
+     "Format of the domain-shaded positions the rasterizer receives, rounded to nearest (lossy, "
+     "every method): fp32, fp16, bf16 or fixedI.F",
+     [](RasterizerOptions& o, const Json& j) { return numberFormat(j, o.vertexFormat); },
+     [](const RasterizerOptions& o) { return formatName(o.vertexFormat); }},
 };
 
 }  // namespace

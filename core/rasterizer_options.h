@@ -48,6 +48,9 @@ struct RasterizerOptions {
     // The format the hierarchy's moving boxes are stored in (issue 35), each bound rounded
     // outward so a stored box holds the exact one: fp32 stores them as built.
     NumberFormat nodeFormat = NumberFormat::fp32();
+    // The format the domain-shaded positions reach the rasterizer in (issue 35), rounded to
+    // nearest: lossy, for every method alike (they share the meshes).
+    NumberFormat vertexFormat = NumberFormat::fp32();
 
     int trianglesPerGroup() const;
     // Throws InputError(source, "rasterizer.max_triangles_per_group") when the fields disagree.

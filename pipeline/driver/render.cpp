@@ -24,8 +24,8 @@ struct FrontEndOutput {
     std::vector<MovingMesh> meshes;
 };
 
-FrontEndOutput runFrontEnd(const FrontEnd& frontEnd, const Effects& effects, int workers,
-                           bool progressBar) {
+FrontEndOutput runFrontEnd(const FrontEnd& frontEnd, const Effects& effects,
+                           const NumberFormat& vertexFormat, int workers, bool progressBar) {
     const std::size_t count = frontEnd.patchCount();
     FrontEndOutput out{std::vector<TessellatedPatch>(count), std::vector<MovingMesh>(count)};
     std::vector<FrontEndWorkspace> workspaces;
@@ -37,6 +37,7 @@ FrontEndOutput runFrontEnd(const FrontEnd& frontEnd, const Effects& effects, int
         const MaterialDesc& m = frontEnd.objects()[std::size_t(patch.object)].desc.material;
         const bool opaque = !effects.transparency || (m.opacity >= 1.0f && m.closeOpacity >= 1.0f);
         toMovingMesh(patch, frontEnd.camera(), effects.motion, int(i), opaque, out.meshes[i]);
+        storePositionsIn(out.meshes[i], vertexFormat);
         progress.advance();
     });
     return out;
@@ -120,7 +121,8 @@ FrontEndOutput frontEndStages(const FrontEnd& frontEnd, const RenderOptions& opt
         options.overrides);
     for (const SceneObject& object : frontEnd.objects())
         for (const std::string& note : objectNotes(object)) result.notes.push_back(note);
-    FrontEndOutput fe = runFrontEnd(frontEnd, result.effects, workers, options.progress);
+    FrontEndOutput fe =
+        runFrontEnd(frontEnd, result.effects, result.formats.vertices, workers, options.progress);
     result.patches = fe.patches.size();
     for (const TessellatedPatch& p : fe.patches) result.triangles += p.triangleCount();
     result.frontEndSeconds = secondsSince(start);
@@ -142,7 +144,8 @@ RenderResult renderScene(const SceneDesc& scene, const RenderOptions& options) {
     const VisibilityMethod& method = options.visibilityMethod();
     const int workers = resolveThreadCount(options.threads);
     RenderResult result;
-    if (method.rasterizesPatches()) result.nodeFormat = scene.rasterizer.nodeFormat;
+    if (method.rasterizesPatches()) result.formats.nodes = scene.rasterizer.nodeFormat;
+    result.formats.vertices = scene.rasterizer.vertexFormat;
     const FrontEnd frontEnd(scene, workers);
     const FrontEndOutput fe = frontEndStages(frontEnd, options, workers, result);
 
@@ -211,8 +214,8 @@ FrameTiming timeFrame(const RenderResult& result, const HardwareConfig& hardware
     }
     t.memoryNotModelled = hardware.memory && !result.memoryTrace;
     t.timing = simulateTiming(result.patchOps, hardware, t.memory ? &*t.memory : nullptr);
-    t.energy = estimateEnergy(result.patchOps, hardware, t.memory ? &*t.memory : nullptr,
-                              result.nodeFormat);
+    t.energy =
+        estimateEnergy(result.patchOps, hardware, t.memory ? &*t.memory : nullptr, result.formats);
     return t;
 }
 

@@ -28,6 +28,22 @@ constexpr Entry kEntries[] = {
 
 constexpr double kEntryMin = 1e-12, kEntryMax = 1e9;  // picojoules, or the scale factor
 
+// The share of 32 bits a value of `op`'s operands takes in its storage site's format.
+double operandScale(Op op, const StorageFormats& formats) {
+    switch (op) {
+        case Op::NodesBuilt:
+        case Op::PlaneTests:
+        case Op::RayBoxTests:
+            return storageBits(formats.nodes) / 32.0;
+        case Op::RayTriangleTests:
+        case Op::TriangleSetups:
+        case Op::EdgeSetups:
+            return storageBits(formats.vertices) / 32.0;
+        default:
+            return 1.0;
+    }
+}
+
 double linear(double x, double x0, double y0, double x1, double y1) {
     return y0 + (x - x0) * (y1 - y0) / (x1 - x0);
 }
@@ -111,22 +127,19 @@ double EnergyReport::memoryTotalPicojoules() const {
 }
 
 EnergyReport estimateEnergy(const std::vector<PatchOps>& patches, const HardwareConfig& hardware,
-                            const MemoryReport* memory, const NumberFormat& nodeFormat) {
+                            const MemoryReport* memory, const StorageFormats& formats) {
     static_assert(kEnergyMemoryParts == kCacheClients + 1);
     PatchOps total;
     for (const PatchOps& p : patches) total.add(p);
     EnergyReport report;
     report.table = hardware.energy;
-    report.nodeFormat = nodeFormat;
+    report.formats = formats;
     const EnergyTable& table = hardware.energy;
-    const double nodeScale = storageBits(nodeFormat) / 32.0;
     for (int k = 0; k < kOpCount; ++k) {
         const Op op = Op(k);
-        const bool readsNodes =
-            op == Op::NodesBuilt || op == Op::PlaneTests || op == Op::RayBoxTests;
         report.stagePicojoules[std::size_t(stageOf(op))] +=
-            total.ops[std::size_t(k)] * opPicojoules(op, table, double(hardware.scratchBudgetBytes),
-                                                     readsNodes ? nodeScale : 1.0);
+            total.ops[std::size_t(k)] *
+            opPicojoules(op, table, double(hardware.scratchBudgetBytes), operandScale(op, formats));
     }
     report.triangles = total[Op::Triangles];
     if (!memory) return report;
@@ -156,7 +169,8 @@ void setEnergyEntry(EnergyTable& table, const std::string& key, const nlohmann::
         if (key != e.key) continue;
         Json section = {{key, value}};
         try {
-            table.*e.member = ObjectReader(section, "", source).number(key, 0, kEntryMin, kEntryMax);
+            table.*e.member =
+                ObjectReader(section, "", source).number(key, 0, kEntryMin, kEntryMax);
         } catch (const InputError& error) {  // the caller's name for the field
             throw InputError(source, field, error.message());
         }
@@ -194,7 +208,8 @@ nlohmann::ordered_json energyReportJson(const EnergyReport& report) {
         report.triangles > 0
             ? report.stagePicojoules[std::size_t(Stage::RS)] / 1e3 / report.triangles
             : 0.0;
-    json["node_format"] = formatName(report.nodeFormat);
+    json["node_format"] = formatName(report.formats.nodes);
+    json["vertex_format"] = formatName(report.formats.vertices);
     json["table"] = energyTableJson(report.table);
     return json;
 }

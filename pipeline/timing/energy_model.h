@@ -94,13 +94,19 @@ bool isProgrammable(Stage s);  // VS, HS, DS and PS run shaders
 // `scratchBytes`, its operand bytes times `operandScale`).
 double opPicojoules(Op op, const EnergyTable& table, double scratchBytes, double operandScale = 1);
 
+// The formats values are stored in at the two storage sites (rasterizer.node_format and
+// rasterizer.vertex_format; docs/PRECISION.md).
+struct StorageFormats {
+    NumberFormat nodes, vertices;
+};
+
 struct EnergyReport {
     std::array<double, kStageCount> stagePicojoules{};
     std::array<double, kEnergyMemoryParts> memoryPicojoules{};  // zero without the memory model
     bool memoryModelled = false;
     double triangles = 0;  // the tessellator's, for the energy per triangle
     EnergyTable table;     // what the frame was priced at
-    NumberFormat nodeFormat;
+    StorageFormats formats;
 
     double computePicojoules() const;
     double memoryTotalPicojoules() const;
@@ -108,12 +114,11 @@ struct EnergyReport {
 };
 
 // The frame's energy from its counted operations (summed over patches) and, when given, its
-// memory traffic. The hierarchy's boxes in `nodeFormat` (RasterizerOptions::nodeFormat): the
-// operations that read or write them (nodes_built, plane_tests, ray_box_tests) move that many
-// bits a bound instead of 32.
+// memory traffic. With `formats` narrower than fp32, the operations that read the hierarchy's
+// boxes (nodes_built, plane_tests, ray_box_tests) or the domain-shaded positions
+// (ray_triangle_tests, triangle_setups, edge_setups) move that many bits a value instead of 32.
 EnergyReport estimateEnergy(const std::vector<PatchOps>& patches, const HardwareConfig& hardware,
-                            const MemoryReport* memory,
-                            const NumberFormat& nodeFormat = NumberFormat::fp32());
+                            const MemoryReport* memory, const StorageFormats& formats = {});
 
 // The hardware file's optional "energy" section: any entry by its key (PATCHSIM_ENERGY_ENTRIES)
 // and "process_scale", each finite and positive; the rest keep their defaults. Throws InputError

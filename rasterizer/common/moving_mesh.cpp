@@ -1,5 +1,7 @@
 #include "rasterizer/common/moving_mesh.h"
 
+#include <cmath>
+
 namespace patchsim {
 
 void toMovingMesh(const TessellatedPatch& patch, const Camera& camera, bool motion, int patchId,
@@ -18,6 +20,22 @@ void toMovingMesh(const TessellatedPatch& patch, const Camera& camera, bool moti
         out.domain[i] = {patch.tessellation.points[i].u, patch.tessellation.points[i].v};
     }
     out.indices = patch.tessellation.indices;
+}
+
+void storePositionsIn(MovingMesh& mesh, const NumberFormat& format) {
+    if (format == NumberFormat::fp32()) return;
+    const auto store = [&](Vec3& p) {
+        for (int axis = 0; axis < 3; ++axis) {
+            const float x = p[axis];
+            p[axis] = roundTo(x, format);
+            // A float format's overflow saturates at its largest value, as fixed point's does:
+            // an infinite vertex would make every blend through it NaN.
+            if (std::isinf(p[axis]) && std::isfinite(x))
+                p[axis] = roundTo(x, format, x > 0 ? Rounding::Down : Rounding::Up);
+        }
+    };
+    for (Vec3& p : mesh.position0) store(p);
+    for (Vec3& p : mesh.position1) store(p);
 }
 
 }  // namespace patchsim

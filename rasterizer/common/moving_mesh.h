@@ -12,6 +12,7 @@
 
 #include "core/camera.h"
 #include "core/lbbox.h"
+#include "core/number_format.h"
 #include "tessellator/front_end.h"
 
 namespace patchsim {
@@ -60,5 +61,11 @@ struct MovingMesh {
 // the t=0 ones, so every box is static.
 void toMovingMesh(const TessellatedPatch& patch, const Camera& camera, bool motion, int patchId,
                   bool opaque, MovingMesh& out);
+
+// Every position as the rasterizer receives it in `format` (rasterizer.vertex_format, issue 35):
+// each coordinate rounded to the nearest value, one beyond the format's range to its end.
+// Lossy by design (a vertex has no outward side), but a vertex shared by triangles is rounded
+// once, so shared edges stay shared and the mesh stays watertight. fp32 leaves the mesh as it is.
+void storePositionsIn(MovingMesh& mesh, const NumberFormat& format);
 
 }  // namespace patchsim
