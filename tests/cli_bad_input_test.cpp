@@ -77,6 +77,7 @@ TEST(CliBadInput, EmptyPathsAreRefusedNotTakenForAFolder) {
     expectRefused("verify-tiles --cases 10 --format fp8", "--format: 'fp8' is not a reduced");
     expectRefused("verify-tiles --cases 10 --format fp16,fixed1.4", "--format: 'fixed1.4' is not");
     expectRefused("verify-tiles --cases 10 --format fp32", "--format: 'fp32' is not a reduced");
+    expectRefused("verify-tiles --cases 10 --format fp16,", "--format: '' is not a reduced");
     expectRefused("info ''", "scene: empty file name");
 }
 

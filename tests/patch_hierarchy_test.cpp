@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <random>
 #include <string>
 
@@ -210,7 +211,7 @@ TEST(PatchHierarchy, BoxesStoredInANarrowerFormatRoundOutward) {
                 ASSERT_TRUE(contains(outer, inner)) << name << " node " << i;
                 for (int a = 0; a < 3; ++a)
                     for (const float v : {outer.lower[a], outer.upper[a]}) {
-                        if (std::isinf(v)) {
+                        if (std::abs(v) == std::numeric_limits<float>::max()) {
                             ++unbounded;
                             continue;
                         }

@@ -108,6 +108,40 @@ TEST(PatchRasterizer, EveryOptionGivesTheReferenceVisibility) {
     }
 }
 
+// Node formats so narrow that most bounds leave their range and open to the largest float: rays
+// at exactly t = 0 or 1 (defocus without motion, a grid sampler's times) weigh a box end by zero,
+// and bounds far off screen reach the tile binning; neither may lose a hit (an infinite bound
+// made NaN slabs and an undefined float-to-int conversion before 2026-12-07).
+TEST(PatchRasterizer, NodeBoundsOutOfAFormatsRangeLoseNoHit) {
+    SceneDesc grid = smallScene(readSceneFile(test::sourcePath("scenes/motion.json")));
+    grid.film.sampler = SamplePattern::Grid;
+    // A bar 80 units wide: only its x bounds leave the range, so its screen bounds reach
+    // millions of pixels while its depth stays in front of the camera.
+    const SceneDesc bar = parseScene(
+        R"({"camera": {"position": [0, 0, 6], "look_at": [0, 0, 0], "fov_y_degrees": 40},
+            "film": {"width": 48, "height": 36, "spp": 4, "seed": 2},
+            "objects": [{"cage": "catmark_cube_creases1.obj",
+                         "open": {"translate": [0, 0, 3], "scale": [40, 0.4, 0.4]}}]})",
+        "bar.json", test::sourcePath("scenes/cages"));
+    const SceneDesc scenes[] = {smallScene(readSceneFile(test::sourcePath("scenes/defocus.json"))),
+                                smallScene(readSceneFile(test::sourcePath("scenes/static.json"))),
+                                grid, bar};
+    for (const SceneDesc& base : scenes) {
+        const RenderResult reference = renderWith(base, &methodNamed("reference"));
+        for (const char* format : {"fixed2.0", "fixed4.4", "fixed2.30"})
+            for (BoundsSpace space :
+                 {BoundsSpace::Camera3D, BoundsSpace::Homogeneous2D, BoundsSpace::Screen2D}) {
+                SceneDesc scene = base;
+                ASSERT_TRUE(parseNumberFormat(format, scene.rasterizer.nodeFormat));
+                scene.rasterizer.boundsSpace = space;
+                const Comparison c = compare(renderWith(scene, &methodNamed("patch")), reference);
+                EXPECT_GT(c.hits, 0u);
+                EXPECT_EQ(c.mismatches, 0u)
+                    << base.path << " " << format << " " << boundsSpaceName(space);
+            }
+    }
+}
+
 // Positions rounded on their way to the rasterizer (rasterizer.vertex_format, issue 35): every
 // method gets the same rounded meshes, so the patch method and triangle-bbox still equal the
 // reference sample for sample, and the image moves away from fp32's, further the fewer bits.

@@ -641,8 +641,10 @@ std::vector<std::unique_ptr<ScopedTileTest>> registerFormatTileTests(const std::
     std::vector<std::unique_ptr<ScopedTileTest>> scoped;
     if (list.empty()) return scoped;
     const std::string formats = list == "all" ? "fp16,bf16,fixed16.8" : list;
-    std::stringstream items(formats);
-    for (std::string item; std::getline(items, item, ',');) {
+    for (std::size_t begin = 0; begin <= formats.size();) {
+        const std::size_t end = std::min(formats.find(',', begin), formats.size());
+        const std::string item = formats.substr(begin, end - begin);
+        begin = end + 1;
         NumberFormat format;
         if (!parseNumberFormat(item, format) || format == NumberFormat::fp32())
             throw InputError("command line", "--format",

@@ -172,7 +172,11 @@ namespace {
 // `x` stored in `format`, toward `outward` (-1 down, +1 up), or with `nearest` to the nearest.
 float stored(float x, const NumberFormat& format, int outward, bool nearest) {
     if (!std::isfinite(x)) return x;  // an empty leaf's box stays empty
-    if (!representable(x, format)) return float(outward) * std::numeric_limits<float>::infinity();
+    // Beyond a fixed-point range the bound opens to the largest float, not to infinity: the
+    // ray-box slabs weigh a box's two ends by (1-t) and t, and infinity times a zero weight at
+    // t = 0 or 1 is NaN, which would reject the ray. A lower bound can only open downward and
+    // an upper one upward, so no slab adds the two infinities its sums could overflow to.
+    if (!representable(x, format)) return float(outward) * std::numeric_limits<float>::max();
     return roundTo(x, format,
                    nearest       ? Rounding::Nearest
                    : outward < 0 ? Rounding::Down

@@ -95,7 +95,8 @@ class PatchHierarchy {
     // upper bound up (Rounding::Down), so the stored box holds the built one at both shutter ends
     // and, the blend being monotone in its ends, at every time between: the tile and ray tests
     // reject nothing more than with the exact boxes, they only accept more. A bound a fixed-point
-    // format cannot hold becomes infinite (open on that side). `Rounding::Nearest` is the naive
+    // format cannot hold opens to the largest float on its side (not to infinity, which times a
+    // zero slab weight at t = 0 or 1 is NaN). `Rounding::Nearest` is the naive
     // variant, kept for the test that shows it loses samples; it is no option of the render.
     void storeNodesIn(const NumberFormat& format, Rounding rounding = Rounding::Down);
     const NumberFormat& nodeFormat() const { return nodeFormat_; }
@@ -115,7 +116,7 @@ class PatchHierarchy {
 
 // `box` as PatchHierarchy::storeNodesIn stores a node in `format`: with Rounding::Down each
 // lower bound rounded down and each upper bound up (a fixed-point bound out of range opened to
-// infinity), with Rounding::Nearest every bound to its nearest value (the naive variant).
+// the largest float), with Rounding::Nearest every bound to its nearest value (the naive variant).
 LBBox storedIn(const LBBox& box, const NumberFormat& format, Rounding rounding);
 
 // The leaf vertex table of a group's triangles in build order (the hierarchy buildOrdered makes).

@@ -71,11 +71,18 @@ ScreenBounds screenBounds(const PatchHierarchy& h, int boundsLevel, const Camera
 
 TileRange tilesCovering(const ScreenBounds& b, const TileGrid& grid) {
     const int t = grid.tileSize;
+    // A bound far off screen (a box that nearly reaches the camera plane, or opened to the
+    // largest float by a narrow node format) is clamped in float first: converting a float
+    // beyond int's range is undefined, and on x86 gives INT_MIN, which would empty the range.
+    const auto tile = [t](float pixel, int pixels) {
+        if (std::isnan(pixel)) return -1;  // the range is refused below
+        return int(std::floor(std::clamp(pixel, -1.0f, float(pixels) + 1.0f))) / t;
+    };
     TileRange r;
-    r.x0 = std::clamp(int(std::floor(b.x0)) / t, 0, grid.tilesX());
-    r.y0 = std::clamp(int(std::floor(b.y0)) / t, 0, grid.tilesY());
-    r.x1 = std::clamp(int(std::floor(b.x1)) / t + 1, 0, grid.tilesX());
-    r.y1 = std::clamp(int(std::floor(b.y1)) / t + 1, 0, grid.tilesY());
+    r.x0 = std::clamp(tile(b.x0, grid.width), 0, grid.tilesX());
+    r.y0 = std::clamp(tile(b.y0, grid.height), 0, grid.tilesY());
+    r.x1 = std::clamp(tile(b.x1, grid.width) + 1, 0, grid.tilesX());
+    r.y1 = std::clamp(tile(b.y1, grid.height) + 1, 0, grid.tilesY());
     if (!(b.x0 <= b.x1) || !(b.y0 <= b.y1) || b.x1 < 0 || b.y1 < 0 || b.x0 > float(grid.width) ||
         b.y0 > float(grid.height))
         r.x1 = r.x0;  // nothing on screen
