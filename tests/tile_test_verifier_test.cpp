@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <map>
 #include <memory>
 #include <set>
 #include <sstream>
@@ -43,6 +44,30 @@ TEST(TileTestVerifier, ReducedPrecisionBoundsRejectFalselyOnlyWhenRoundedToNeare
               0);
 }
 
+// D3D11's 16.8 snap at the screen bounds, in pixels: rounded outward (in pixels, and back on the
+// plane widened by the conversions' error bounds) no false reject at any width. Rounded to
+// nearest, the error is half a step: within the tile guard (1/256 pixel) from 7 fraction bits,
+// so 16.8 loses nothing here, and 16.4 (half a step is 1/32 pixel) rejects falsely.
+TEST(TileTestVerifier, ScreenBoundsSnappedToPixelsRejectFalselyOnlyBeyondTheTileGuard) {
+    std::vector<std::unique_ptr<ScopedTileTest>> scoped;
+    for (const NumberFormat format : {kD3D11Snap, NumberFormat::fixed(16, 4)})
+        for (bool outward : {true, false})
+            scoped.push_back(
+                std::make_unique<ScopedTileTest>(makeReducedScreenTileTest(format, outward)));
+    const TileVerifierResult result = verify(3000, 42);
+    std::map<std::string, std::int64_t> rejects, accepts;
+    for (const TileTestReport& r : result.reports) {
+        rejects[r.name] += r.falseRejects;
+        accepts[r.name] += r.falseAccepts;
+    }
+    EXPECT_EQ(rejects["patent-2d-time-fixed16.8"], 0);
+    EXPECT_EQ(rejects["patent-2d-time-fixed16.4"], 0);
+    EXPECT_EQ(rejects["patent-2d-time-fixed16.8-naive"], 0);  // within the guard
+    EXPECT_GT(rejects["patent-2d-time-fixed16.4-naive"], 0);
+    EXPECT_GE(accepts["patent-2d-time-fixed16.4"], accepts["patent-2d-time-fixed16.8"]);
+    EXPECT_GE(accepts["patent-2d-time-fixed16.8"], accepts["patent-2d-time"]);
+}
+
 // The render's node_format site: the box stored as the hierarchy stores its nodes. Rounded
 // outward, no false reject in any format, fixed point included; rounded to nearest, false
 // rejects that the run reports without failing (a lossy variant). verify-tiles --format makes
@@ -68,8 +93,8 @@ TEST(TileTestVerifier, StoredNodeBoxesRejectFalselyOnlyWhenRoundedToNearest) {
     EXPECT_EQ(seen, 8);  // 2 formats x outward and naive x pinhole and lens
     EXPECT_GT(naiveRejects, 0);
     EXPECT_FALSE(result.anyFalseReject()) << "a lossy variant's rejects fail the run";
-    EXPECT_EQ(formatTileTests(NumberFormat::fp16()).size(), 4u);        // both sites
-    EXPECT_EQ(formatTileTests(NumberFormat::fixed(16, 8)).size(), 2u);  // the nodes' only
+    EXPECT_EQ(formatTileTests(NumberFormat::fp16()).size(), 4u);  // both sites, both roundings
+    EXPECT_EQ(formatTileTests(NumberFormat::fixed(16, 8)).size(), 4u);
 }
 
 TEST(TileTestVerifier, EveryVariantAndCheckIsListedAndNeverRejectsFalsely) {

@@ -82,8 +82,8 @@ std::unique_ptr<TileTestVariant> makeReducedScreenTileTest(const NumberFormat& f
 // The 3D camera-space test with time refinement on the moving box as the render stores it with
 // `rasterizer.node_format` = `format` (storedIn): rounded outward, or to nearest (lossy).
 std::unique_ptr<TileTestVariant> makeStoredNodeTileTest(const NumberFormat& format, bool outward);
-// For `verify-tiles --format`: every site's variants in `format`, outward and naive (the screen
-// bounds' for float formats only: they are in units of the z = -1 plane, not pixels).
+// For `verify-tiles --format`: every site's variants in `format`, outward and naive (fixed point
+// at the screen bounds stores pixels, as D3D11's 16.8 snap does).
 std::vector<std::unique_ptr<TileTestVariant>> formatTileTests(const NumberFormat& format);
 
 enum class CaseModel : std::uint8_t { Pinhole, Lens, Hierarchy };
