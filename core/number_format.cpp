@@ -33,44 +33,49 @@ double roundInteger(double scaled, Rounding rounding) {
 
 // The format's spacing at |x|: 2^(exponent - fraction bits), the exponent no smaller than the
 // smallest normal one (below it the spacing is the subnormals').
-double unitInLastPlaceOf(float x, const FloatLayout& f) {
+double unitInLastPlaceOf(double x, const FloatLayout& f) {
     int exponent = f.minExponent;
-    if (x != 0.0f && std::isfinite(x)) exponent = std::max(std::ilogb(x), f.minExponent);
+    if (x != 0.0 && std::isfinite(x)) exponent = std::max(std::ilogb(x), f.minExponent);
     return std::ldexp(1.0, exponent - f.fractionBits);
 }
 
-float roundFloatFormat(float x, const FloatLayout& f, Rounding rounding) {
+double roundFloatFormat(double x, const FloatLayout& f, Rounding rounding) {
     const double ulp = unitInLastPlaceOf(x, f);
-    const double value = roundInteger(double(x) / ulp, rounding) * ulp;
-    if (std::abs(value) <= f.largest) return float(value);
+    const double value = roundInteger(x / ulp, rounding) * ulp;
+    if (std::abs(value) <= f.largest) return value;
     // Beyond the largest finite value: infinity, unless the rounding goes toward zero.
     const bool towardZero =
         (value > 0 && rounding == Rounding::Down) || (value < 0 && rounding == Rounding::Up);
-    if (towardZero) return float(std::copysign(f.largest, value));
-    return std::copysign(std::numeric_limits<float>::infinity(), float(value));
+    if (towardZero) return std::copysign(f.largest, value);
+    return std::copysign(std::numeric_limits<double>::infinity(), value);
 }
 
 }  // namespace
 
-float roundTo(float x, const NumberFormat& format, Rounding rounding) {
-    if (std::isnan(x) || std::isinf(x) || format.kind == NumberFormat::Kind::Fp32) return x;
+double roundDoubleTo(double x, const NumberFormat& format, Rounding rounding) {
+    if (std::isnan(x) || std::isinf(x)) return x;
     if (format.kind != NumberFormat::Kind::Fixed)
         return roundFloatFormat(x, layoutOf(format.kind), rounding);
     const double ulp = std::ldexp(1.0, -format.fractionBits);
     const double low = -std::ldexp(1.0, format.integerBits - 1);
     const double high = -low - ulp;
-    const double value = roundInteger(double(x) / ulp, rounding) * ulp;
-    return float(std::min(std::max(value, low), high));
+    const double value = roundInteger(x / ulp, rounding) * ulp;
+    return std::min(std::max(value, low), high);
 }
 
-bool representable(float x, const NumberFormat& format) {
+float roundTo(float x, const NumberFormat& format, Rounding rounding) {
+    if (format.kind == NumberFormat::Kind::Fp32) return x;
+    return float(roundDoubleTo(double(x), format, rounding));
+}
+
+bool representable(double x, const NumberFormat& format) {
     if (format.kind != NumberFormat::Kind::Fixed || !std::isfinite(x)) return true;
     const double ulp = std::ldexp(1.0, -format.fractionBits);
     const double low = -std::ldexp(1.0, format.integerBits - 1);
-    return double(x) >= low && double(x) <= -low - ulp;
+    return x >= low && x <= -low - ulp;
 }
 
-double unitInLastPlace(float x, const NumberFormat& format) {
+double unitInLastPlace(double x, const NumberFormat& format) {
     if (format.kind == NumberFormat::Kind::Fixed) return std::ldexp(1.0, -format.fractionBits);
     return unitInLastPlaceOf(x, layoutOf(format.kind));
 }

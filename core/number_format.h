@@ -47,13 +47,17 @@ enum class Rounding : std::uint8_t { Nearest, Down, Up };
 
 // `x` in `format`, rounded as asked (see the essay above).
 float roundTo(float x, const NumberFormat& format, Rounding rounding = Rounding::Nearest);
+// The same for a double, for arithmetic emulated in the format (rounded_arithmetic.h): fp32
+// rounds to float's grid here, and a fixed-point value wider than float's significand stays
+// exact.
+double roundDoubleTo(double x, const NumberFormat& format, Rounding rounding = Rounding::Nearest);
 
 // False for a finite value beyond a fixed-point format's range (it would saturate); true for
 // every float format and for infinities and NaN, which keep their meaning.
-bool representable(float x, const NumberFormat& format);
+bool representable(double x, const NumberFormat& format);
 
 // The distance from |x| to the next larger value of the format: one unit in the last place.
-double unitInLastPlace(float x, const NumberFormat& format);
+double unitInLastPlace(double x, const NumberFormat& format);
 
 // "fp32", "fp16", "bf16", "fixed16.8".
 std::string formatName(const NumberFormat& format);

@@ -47,6 +47,11 @@ void RasterizerOptions::validate(const std::string& source) const {
                          std::to_string(maxTrianglesPerGroup) + " is more than a hierarchy of 64 " +
                              "leaves of " + std::to_string(leafSize) + " holds (at most " +
                              std::to_string(kMaxLeavesPerHierarchy * leafSize) + ")");
+    if (planeFormat != NumberFormat::fp32() && boundsSpace != BoundsSpace::Camera3D)
+        throw InputError(source, "rasterizer.plane_format",
+                         formatName(planeFormat) + " needs bounds_space camera3d (the format " +
+                             "computes the 3D tile planes' tests), not " +
+                             boundsSpaceName(boundsSpace));
 }
 
 void RasterizerOptions::validateTileSamples(int samplesPerPixel, const std::string& source) const {
@@ -161,6 +166,11 @@ const std::vector<RasterizerOptionField> kFields = {
      "every method): fp32, fp16, bf16 or fixedI.F",
      [](RasterizerOptions& o, const Json& j) { return numberFormat(j, o.vertexFormat); },
      [](const RasterizerOptions& o) { return formatName(o.vertexFormat); }},
+    {"plane_format", "--plane-format",
+     "Arithmetic format of the 3D tile planes' tests and leaf time intervals, each bounded by "
+     "its rounding error (conservative): fp32, fp16, bf16 or fixedI.F",
+     [](RasterizerOptions& o, const Json& j) { return numberFormat(j, o.planeFormat); },
+     [](const RasterizerOptions& o) { return formatName(o.planeFormat); }},
 };
 
 }  // namespace

@@ -51,9 +51,14 @@ struct RasterizerOptions {
     // The format the domain-shaded positions reach the rasterizer in (issue 35), rounded to
     // nearest: lossy, for every method alike (they share the meshes).
     NumberFormat vertexFormat = NumberFormat::fp32();
+    // The arithmetic format of the tile planes' tests and the leaf time intervals (issue 35),
+    // each distance bounded by running error analysis so no tile is rejected that fp32's exact
+    // planes accept (rasterizer/patent/tile_frustum_rounded.h): camera3d bounds only.
+    NumberFormat planeFormat = NumberFormat::fp32();
 
     int trianglesPerGroup() const;
-    // Throws InputError(source, "rasterizer.max_triangles_per_group") when the fields disagree.
+    // Throws InputError(source, "rasterizer.max_triangles_per_group" or
+    // "rasterizer.plane_format") when the fields disagree.
     void validate(const std::string& source) const;
     // Throws InputError(source, "rasterizer.tile_size") when a tile holds more samples than a
     // worker keeps (kMaxTileSamples).

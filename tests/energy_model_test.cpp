@@ -78,6 +78,33 @@ TEST(EnergyModel, AFramesOperationsArePricedByTheirArithmetic) {
     EXPECT_EQ(estimateEnergy({}, hw, nullptr).totalPicojoules(), 0);  // an empty frame
 }
 
+// rasterizer.plane_format: plane tests and time intervals compute in the format, the value and
+// its error bound (twice the arithmetic); their operands still come at the node format's bits.
+TEST(EnergyModel, APlaneFormatPricesThePlaneArithmeticInItTwice) {
+    HardwareConfig hw = defaultHardwareConfig();
+    hw.scratchBudgetBytes = 16384;
+    PatchOps ops;
+    ops[Op::PlaneTests] = 10;
+    ops[Op::TimeIntervals] = 3;
+    StorageFormats formats;
+    formats.planes = NumberFormat::fp16();
+    const EnergyReport r = estimateEnergy({ops}, hw, nullptr, formats);
+    const double scratch = 1.5 / 8 * std::sqrt(200.0);
+    // fp16: adds and compares at 0.4 pJ, multiplies at 1.1; a divide as 4 multiplies.
+    const double planeTest = 2 * (6 * 0.4 + 3 * 1.1) + scratch;
+    const double interval = 2 * (3 * 0.4 + 4 * 1.1);
+    EXPECT_NEAR(r.stagePicojoules[std::size_t(Stage::RS)], 10 * planeTest + 3 * interval, 1e-9);
+    const double fp32 = estimateEnergy({ops}, hw, nullptr).stagePicojoules[std::size_t(Stage::RS)];
+    EXPECT_NEAR(fp32, 10 * (6 * 0.9 + 3 * 3.7 + scratch) + 3 * (3 * 0.9 + 4 * 3.7), 1e-9);
+    formats.planes = NumberFormat::fixed(16, 8);  // integer arithmetic of 24 bits
+    const EnergyReport fixed = estimateEnergy({ops}, hw, nullptr, formats);
+    EXPECT_NEAR(fixed.stagePicojoules[std::size_t(Stage::RS)],
+                10 * (2 * (6 * hw.energy.intAdd(24) + 3 * hw.energy.intMultiply(24)) + scratch) +
+                    3 * 2 * (3 * hw.energy.intAdd(24) + 4 * hw.energy.intMultiply(24)),
+                1e-9);
+    EXPECT_EQ(energyReportJson(r)["plane_format"], "fp16");
+}
+
 TEST(EnergyModel, TheMemorySystemIsPricedByLineAndByDramByte) {
     const HardwareConfig hw = defaultHardwareConfig();
     MemoryReport memory;

@@ -34,6 +34,12 @@ RenderResult renderWith(const SceneDesc& scene, const VisibilityMethod* method, 
 using test::compare;
 using test::Comparison;
 
+double totalOps(const RenderResult& r, Op op) {
+    PatchOps total;
+    for (const PatchOps& p : r.patchOps) total.add(p);
+    return total[op];
+}
+
 TEST(PatchRasterizer, MatchesTheReferenceOnEveryShippedScene) {
     for (const std::string& path : test::sceneFiles()) {
         const SceneDesc scene = smallScene(readSceneFile(path));
@@ -139,6 +145,53 @@ TEST(PatchRasterizer, NodeBoundsOutOfAFormatsRangeLoseNoHit) {
                 EXPECT_EQ(c.mismatches, 0u)
                     << base.path << " " << format << " " << boundsSpaceName(space);
             }
+    }
+}
+
+// The tile planes and leaf time intervals computed in a narrower format (rasterizer.plane_format,
+// issue 35), each distance bounded by its rounding error: the hits are the reference's, with
+// time refinement at the leaves and at every level, on blurred, static and grid-timed frames and
+// on the 80-unit bar, whose distances leave fixed4.4's range (the test then gives its planes
+// up); the narrower the format, the more the tile tests let through. A 2D bounds space, which
+// has no 3D planes, is refused.
+TEST(PatchRasterizer, PlaneFormatsLoseNoHitAndOnlyLetMoreThrough) {
+    SceneDesc grid = smallScene(readSceneFile(test::sourcePath("scenes/motion.json")));
+    grid.film.sampler = SamplePattern::Grid;
+    const SceneDesc bar = parseScene(
+        R"({"camera": {"position": [0, 0, 6], "look_at": [0, 0, 0], "fov_y_degrees": 40},
+            "film": {"width": 48, "height": 36, "spp": 4, "seed": 2},
+            "shutter": {"open": 0, "close": 1},
+            "objects": [{"cage": "catmark_cube_creases1.obj",
+                         "open": {"translate": [0, 0, 3], "scale": [40, 0.4, 0.4]},
+                         "close": {"translate": [0.5, 0.2, 3], "scale": [40, 0.4, 0.4]}}]})",
+        "bar.json", test::sourcePath("scenes/cages"));
+    const SceneDesc scenes[] = {
+        smallScene(readSceneFile(test::sourcePath("scenes/motion_defocus.json"))),
+        smallScene(readSceneFile(test::sourcePath("scenes/static.json"))), grid, bar};
+    for (const SceneDesc& base : scenes) {
+        const RenderResult reference = renderWith(base, &methodNamed("reference"));
+        const RenderResult fp32 = renderWith(base, &methodNamed("patch"));
+        for (const char* format : {"fp16", "bf16", "fixed16.8", "fixed4.4"})
+            for (bool everyLevel : {true, false}) {
+                SceneDesc scene = base;
+                ASSERT_TRUE(parseNumberFormat(format, scene.rasterizer.planeFormat));
+                scene.rasterizer.interiorTimeRefinement = everyLevel;
+                const RenderResult patch = renderWith(scene, &methodNamed("patch"));
+                const Comparison c = compare(patch, reference);
+                EXPECT_GT(c.hits, 0u);
+                EXPECT_EQ(c.mismatches, 0u) << base.path << " " << format << " " << everyLevel;
+                EXPECT_GE(totalOps(patch, Op::RayBoxTests), totalOps(fp32, Op::RayBoxTests))
+                    << base.path << " " << format;
+            }
+    }
+    SceneDesc flat = scenes[0];
+    flat.rasterizer.planeFormat = NumberFormat::fp16();
+    flat.rasterizer.boundsSpace = BoundsSpace::Screen2D;
+    try {
+        renderWith(flat, &methodNamed("patch"));
+        ADD_FAILURE() << "a plane format with 2D bounds was accepted";
+    } catch (const InputError& e) {
+        EXPECT_EQ(e.field(), "rasterizer.plane_format");
     }
 }
 

@@ -93,8 +93,36 @@ TEST(TileTestVerifier, StoredNodeBoxesRejectFalselyOnlyWhenRoundedToNearest) {
     EXPECT_EQ(seen, 8);  // 2 formats x outward and naive x pinhole and lens
     EXPECT_GT(naiveRejects, 0);
     EXPECT_FALSE(result.anyFalseReject()) << "a lossy variant's rejects fail the run";
-    EXPECT_EQ(formatTileTests(NumberFormat::fp16()).size(), 4u);  // both sites, both roundings
-    EXPECT_EQ(formatTileTests(NumberFormat::fixed(16, 8)).size(), 4u);
+    EXPECT_EQ(formatTileTests(NumberFormat::fp16()).size(), 6u);  // three sites, both roundings
+    EXPECT_EQ(formatTileTests(NumberFormat::fixed(16, 8)).size(), 6u);
+}
+
+// The tile planes and leaf time intervals computed in the format's arithmetic: bounded by
+// running error analysis, no false reject in any format; naive (the rounded distances against
+// zero, times rounded to nearest), false rejects in every one.
+TEST(TileTestVerifier, PlaneArithmeticRejectsFalselyOnlyWithoutItsErrorBound) {
+    std::vector<std::unique_ptr<ScopedTileTest>> scoped;
+    const NumberFormat formats[] = {NumberFormat::fp16(), NumberFormat::bf16(),
+                                    NumberFormat::fixed(16, 8)};
+    for (const NumberFormat& format : formats)
+        for (bool bounded : {true, false})
+            scoped.push_back(
+                std::make_unique<ScopedTileTest>(makePlaneArithmeticTileTest(format, bounded)));
+    const TileVerifierResult result = verify(3000, 42);
+    std::map<std::string, std::int64_t> rejects, accepts;
+    for (const TileTestReport& r : result.reports) {
+        if (r.name.rfind("patent-3d-time", 0) != 0) continue;
+        rejects[r.name] += r.falseRejects;
+        accepts[r.name] += r.falseAccepts;
+        EXPECT_EQ(r.lossy, r.name.ends_with("-naive")) << r.name;
+    }
+    for (const NumberFormat& format : formats) {
+        const std::string name = "patent-3d-time-planes-" + formatName(format);
+        EXPECT_EQ(rejects[name], 0) << name;
+        EXPECT_GT(rejects[name + "-naive"], 0) << name;
+        EXPECT_GE(accepts[name], accepts["patent-3d-time"]) << name;
+    }
+    EXPECT_FALSE(result.anyFalseReject()) << "a lossy variant's rejects fail the run";
 }
 
 TEST(TileTestVerifier, EveryVariantAndCheckIsListedAndNeverRejectsFalsely) {

@@ -192,8 +192,9 @@ std::vector<JobOption> makeTable() {
                   "Check the exact truth with sampled rays on every Nth case (0: never)")
                     .in(0, 1 << 30));
     t.push_back(O("--format", kVerify, K::Text, &S::formats,
-                  "Also verify every site's variants in these number formats, rounded outward "
-                  "and naive (comma-separated: fp16, bf16, fixedI.F; all: fp16,bf16,fixed16.8)"));
+                  "Also verify every site's variants in these number formats, conservative "
+                  "(rounded outward or error-bounded) and naive (comma-separated: fp16, bf16, "
+                  "fixedI.F; all: fp16,bf16,fixed16.8)"));
     t.push_back(O("--csv", kVerify, K::OutputFile, &S::csv, "Write one row per case and variant"));
     t.push_back(O("--summary", kVerify, K::OutputFile, &S::summary,
                   "Write one row per variant (for scripts/plot_tile_tests.py)"));

@@ -144,7 +144,10 @@ RenderResult renderScene(const SceneDesc& scene, const RenderOptions& options) {
     const VisibilityMethod& method = options.visibilityMethod();
     const int workers = resolveThreadCount(options.threads);
     RenderResult result;
-    if (method.rasterizesPatches()) result.formats.nodes = scene.rasterizer.nodeFormat;
+    if (method.rasterizesPatches()) {
+        result.formats.nodes = scene.rasterizer.nodeFormat;
+        result.formats.planes = scene.rasterizer.planeFormat;
+    }
     result.formats.vertices = scene.rasterizer.vertexFormat;
     const FrontEnd frontEnd(scene, workers);
     const FrontEndOutput fe = frontEndStages(frontEnd, options, workers, result);

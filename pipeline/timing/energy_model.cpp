@@ -101,11 +101,11 @@ double EnergyTable::sramRead64(double sizeBytes) const {
     return processScale * std::exp(y);
 }
 
-double opPicojoules(Op op, const EnergyTable& table, double scratchBytes, double operandScale) {
+double opPicojoules(Op op, const EnergyTable& table, double scratchBytes, double operandScale,
+                    const NumberFormat& arithmetic, int copies) {
     const OpArithmetic& a = opArithmetic(op);
-    const NumberFormat fp32 = NumberFormat::fp32();
-    double pj = (a.adds + a.compares) * table.floatAdd(fp32) +
-                (a.multiplies + 4 * a.divides) * table.floatMultiply(fp32) +
+    double pj = copies * ((a.adds + a.compares) * table.floatAdd(arithmetic) +
+                          (a.multiplies + 4 * a.divides) * table.floatMultiply(arithmetic)) +
                 a.intAdds * table.intAdd(a.intBits) +
                 a.intMultiplies * table.intMultiply(a.intBits) +
                 a.operandBytes * operandScale / 8 * table.sramRead64(scratchBytes);
@@ -137,9 +137,13 @@ EnergyReport estimateEnergy(const std::vector<PatchOps>& patches, const Hardware
     const EnergyTable& table = hardware.energy;
     for (int k = 0; k < kOpCount; ++k) {
         const Op op = Op(k);
+        const bool inPlaneFormat = formats.planes != NumberFormat::fp32() &&
+                                   (op == Op::PlaneTests || op == Op::TimeIntervals);
         report.stagePicojoules[std::size_t(stageOf(op))] +=
             total.ops[std::size_t(k)] *
-            opPicojoules(op, table, double(hardware.scratchBudgetBytes), operandScale(op, formats));
+            opPicojoules(op, table, double(hardware.scratchBudgetBytes), operandScale(op, formats),
+                         inPlaneFormat ? formats.planes : NumberFormat::fp32(),
+                         inPlaneFormat ? 2 : 1);
     }
     report.triangles = total[Op::Triangles];
     if (!memory) return report;
@@ -210,6 +214,7 @@ nlohmann::ordered_json energyReportJson(const EnergyReport& report) {
             : 0.0;
     json["node_format"] = formatName(report.formats.nodes);
     json["vertex_format"] = formatName(report.formats.vertices);
+    json["plane_format"] = formatName(report.formats.planes);
     json["table"] = energyTableJson(report.table);
     return json;
 }

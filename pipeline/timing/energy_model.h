@@ -90,14 +90,16 @@ struct OpArithmetic {
 const OpArithmetic& opArithmetic(Op op);
 bool isProgrammable(Stage s);  // VS, HS, DS and PS run shaders
 
-// Picojoules of one operation of `op` on `table` (its arithmetic in fp32, the scratch
-// `scratchBytes`, its operand bytes times `operandScale`).
-double opPicojoules(Op op, const EnergyTable& table, double scratchBytes, double operandScale = 1);
+// Picojoules of one operation of `op` on `table` (the scratch `scratchBytes`, its operand bytes
+// times `operandScale`, its arithmetic in `arithmetic`, `copies` times over).
+double opPicojoules(Op op, const EnergyTable& table, double scratchBytes, double operandScale = 1,
+                    const NumberFormat& arithmetic = NumberFormat::fp32(), int copies = 1);
 
-// The formats values are stored in at the two storage sites (rasterizer.node_format and
-// rasterizer.vertex_format; docs/PRECISION.md).
+// The formats of issue 35's sites (docs/PRECISION.md): values stored at the two storage sites
+// (rasterizer.node_format and rasterizer.vertex_format) and the tile planes' arithmetic
+// (rasterizer.plane_format).
 struct StorageFormats {
-    NumberFormat nodes, vertices;
+    NumberFormat nodes, vertices, planes;
 };
 
 struct EnergyReport {
@@ -117,6 +119,8 @@ struct EnergyReport {
 // memory traffic. With `formats` narrower than fp32, the operations that read the hierarchy's
 // boxes (nodes_built, plane_tests, ray_box_tests) or the domain-shaded positions
 // (ray_triangle_tests, triangle_setups, edge_setups) move that many bits a value instead of 32.
+// With a narrower plane format, plane_tests and time_intervals compute in it, twice over: the
+// value and its error bound (tile_frustum_rounded.h).
 EnergyReport estimateEnergy(const std::vector<PatchOps>& patches, const HardwareConfig& hardware,
                             const MemoryReport* memory, const StorageFormats& formats = {});
 

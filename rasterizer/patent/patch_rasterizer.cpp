@@ -65,9 +65,9 @@ void PatchRasterizer::rasterizeTile(const MovingMesh& mesh, const Group& group, 
     ++work.tilesInBounds;
     if (targets.pixels) targets.pixels->countTileTest(tileX, tileY);
     const float farDepth = options_.zCulling ? rays.farthestDepthBound() : camera_.farPlane();
-    const TileTraversal traversal =
-        traverseTile(group.hierarchy, group.nodes, {&camera_, lens_, tile, farDepth},
-                     effects_.motion, timeRefinementOf(options_), work);
+    const TileTraversal traversal = traverseTile(
+        group.hierarchy, group.nodes, {&camera_, lens_, tile, farDepth, options_.planeFormat},
+        effects_.motion, timeRefinementOf(options_), work);
     if (!traversal.overlaps) return;
     ++work.tilesOverlapping;
     const int branch = branchNode(options_.branchMethod, traversal, group.hierarchy.depth());

@@ -11,6 +11,7 @@
 #include <bit>
 
 #include "rasterizer/common/conservative_margins.h"
+#include "rasterizer/patent/tile_frustum_rounded.h"
 
 HWY_BEFORE_NAMESPACE();
 namespace patchsim {
@@ -32,6 +33,25 @@ struct CameraSpaceTest {
     }
     bool leafTimes(int node, TimeRange& times, RasterWork& work) const {
         return leafTimeInterval(frustum, h.node(node), times, work);
+    }
+};
+
+// The camera-space test computed in rasterizer.plane_format (tile_frustum_rounded.h), each
+// distance bounded by its rounding error: scalar, as an emulation of the format.
+struct RoundedCameraSpaceTest {
+    const PatchHierarchy& h;
+    TileFrustum frustum;
+    RoundedArithmetic arithmetic;
+    void startAtRoot(RasterWork& work) {
+        frustum.testNearFar = !insideNearFar(frustum, h.node(0), work);
+    }
+    bool overlaps(int node, bool motion, RasterWork& work) const {
+        return overlapsFrustumRounded(frustum, h.node(node), arithmetic,
+                                      PlaneErrorHandling::Bounded, motion, work);
+    }
+    bool leafTimes(int node, TimeRange& times, RasterWork& work) const {
+        return leafTimeIntervalRounded(frustum, h.node(node), arithmetic,
+                                       PlaneErrorHandling::Bounded, times, work);
     }
 };
 
@@ -442,8 +462,11 @@ TileTraversal TraverseImpl(const PatchHierarchy& h, const SpaceNodes& nodes, con
         case BoundsSpace::Camera3D:
             break;
     }
-    return walk(h, CameraSpaceLanes(h, makeTileFrustum(*t.camera, t.lens, t.tile, t.farDepth)),
-                motion, refineTime, work);
+    const TileFrustum frustum = makeTileFrustum(*t.camera, t.lens, t.tile, t.farDepth);
+    if (t.planeFormat != NumberFormat::fp32())
+        return walk(h, RoundedCameraSpaceTest{h, frustum, RoundedArithmetic(t.planeFormat)}, motion,
+                    refineTime, work);
+    return walk(h, CameraSpaceLanes(h, frustum), motion, refineTime, work);
 }
 
 TileTraversal TraverseFrustumImpl(const PatchHierarchy& h, const TileFrustum& frustum, bool motion,

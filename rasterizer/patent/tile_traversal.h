@@ -52,6 +52,8 @@ struct TileBounds {
     LensModel lens;
     TileRect tile;
     float farDepth;  // the camera's far plane or the tile's z-buffer maximum
+    // The 3D planes' arithmetic (rasterizer.plane_format): fp32 is the vector test.
+    NumberFormat planeFormat = NumberFormat::fp32();
 };
 
 // How a walk narrows time: not at all, at the leaves (the patent), or at every node from the root

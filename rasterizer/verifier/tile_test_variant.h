@@ -82,6 +82,10 @@ std::unique_ptr<TileTestVariant> makeReducedScreenTileTest(const NumberFormat& f
 // The 3D camera-space test with time refinement on the moving box as the render stores it with
 // `rasterizer.node_format` = `format` (storedIn): rounded outward, or to nearest (lossy).
 std::unique_ptr<TileTestVariant> makeStoredNodeTileTest(const NumberFormat& format, bool outward);
+// The 3D test with time refinement computed in `format`'s arithmetic (tile_frustum_rounded.h):
+// each plane distance bounded by running error analysis, or (not `bounded`) naive (lossy).
+std::unique_ptr<TileTestVariant> makePlaneArithmeticTileTest(const NumberFormat& format,
+                                                             bool bounded);
 // For `verify-tiles --format`: every site's variants in `format`, outward and naive (fixed point
 // at the screen bounds stores pixels, as D3D11's 16.8 snap does).
 std::vector<std::unique_ptr<TileTestVariant>> formatTileTests(const NumberFormat& format);

@@ -9,6 +9,7 @@
 #include "rasterizer/patent/patch_hierarchy.h"
 #include "rasterizer/patent/projected_bounds.h"
 #include "rasterizer/patent/tile_frustum.h"
+#include "rasterizer/patent/tile_frustum_rounded.h"
 #include "rasterizer/verifier/tile_test_variant.h"
 
 namespace patchsim {
@@ -156,6 +157,30 @@ class StoredNodeTest : public TileTestVariant {
     bool outward_;
 };
 
+// The tile planes and the leaf time intervals computed in `format` (tile_frustum_rounded.h): the
+// fp32 box and frustum enter the format's datapath, bounded by running error analysis or naive.
+class PlaneArithmeticTest : public TileTestVariant {
+  public:
+    PlaneArithmeticTest(NumberFormat format, PlaneErrorHandling handling)
+        : arithmetic_(format), handling_(handling) {}
+    std::string name() const override {
+        return "patent-3d-time-planes-" + formatName(arithmetic_.format()) +
+               (lossy() ? "-naive" : "");
+    }
+    TileTestOutput run(const TileTestInput& in) const override {
+        RasterWork work;
+        TileTestOutput out;
+        const TileFrustum f = makeTileFrustum(*in.camera, in.lens, in.tile, in.camera->farPlane());
+        out.accept = leafTimeIntervalRounded(f, in.box, arithmetic_, handling_, out.times, work);
+        return out;
+    }
+    bool lossy() const override { return handling_ == PlaneErrorHandling::Naive; }
+
+  private:
+    RoundedArithmetic arithmetic_;
+    PlaneErrorHandling handling_;
+};
+
 }  // namespace
 
 void addPatentTileTests(std::vector<std::unique_ptr<TileTestVariant>>& out) {
@@ -176,12 +201,19 @@ std::unique_ptr<TileTestVariant> makeStoredNodeTileTest(const NumberFormat& form
     return std::make_unique<StoredNodeTest>(format, outward);
 }
 
+std::unique_ptr<TileTestVariant> makePlaneArithmeticTileTest(const NumberFormat& format,
+                                                             bool bounded) {
+    return std::make_unique<PlaneArithmeticTest>(
+        format, bounded ? PlaneErrorHandling::Bounded : PlaneErrorHandling::Naive);
+}
+
 std::vector<std::unique_ptr<TileTestVariant>> formatTileTests(const NumberFormat& format) {
     std::vector<std::unique_ptr<TileTestVariant>> out;
     if (format == NumberFormat::fp32()) return out;
     for (bool outward : {true, false}) {
         out.push_back(makeReducedScreenTileTest(format, outward));
         out.push_back(makeStoredNodeTileTest(format, outward));
+        out.push_back(makePlaneArithmeticTileTest(format, outward));
     }
     return out;
 }
