@@ -49,9 +49,9 @@ void RasterizerOptions::validate(const std::string& source) const {
                              std::to_string(kMaxLeavesPerHierarchy * leafSize) + ")");
     if (planeFormat != NumberFormat::fp32() && boundsSpace != BoundsSpace::Camera3D)
         throw InputError(source, "rasterizer.plane_format",
-                         formatName(planeFormat) + " needs bounds_space camera3d (the format " +
-                             "computes the 3D tile planes' tests), not " +
-                             boundsSpaceName(boundsSpace));
+                         formatName(planeFormat) + " needs bounds_space " +
+                             boundsSpaceName(BoundsSpace::Camera3D) + " (the format computes " +
+                             "the 3D tile planes' tests), not " + boundsSpaceName(boundsSpace));
 }
 
 void RasterizerOptions::validateTileSamples(int samplesPerPixel, const std::string& source) const {
@@ -168,9 +168,14 @@ const std::vector<RasterizerOptionField> kFields = {
      [](const RasterizerOptions& o) { return formatName(o.vertexFormat); }},
     {"plane_format", "--plane-format",
      "Arithmetic format of the 3D tile planes' tests and leaf time intervals, each bounded by "
-     "its rounding error (conservative): fp32, fp16, bf16 or fixedI.F",
+     "its rounding error (conservative; bounds space 3d only): fp32, fp16, bf16 or fixedI.F",
      [](RasterizerOptions& o, const Json& j) { return numberFormat(j, o.planeFormat); },
      [](const RasterizerOptions& o) { return formatName(o.planeFormat); }},
+    {"ray_box_format", "--ray-box-format",
+     "Arithmetic format of the per-sample ray-box tests, each slab distance bounded by its "
+     "rounding error (conservative): fp32, fp16, bf16 or fixedI.F",
+     [](RasterizerOptions& o, const Json& j) { return numberFormat(j, o.rayBoxFormat); },
+     [](const RasterizerOptions& o) { return formatName(o.rayBoxFormat); }},
 };
 
 }  // namespace

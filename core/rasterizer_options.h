@@ -52,9 +52,13 @@ struct RasterizerOptions {
     // nearest: lossy, for every method alike (they share the meshes).
     NumberFormat vertexFormat = NumberFormat::fp32();
     // The arithmetic format of the tile planes' tests and the leaf time intervals (issue 35),
-    // each distance bounded by running error analysis so no tile is rejected that fp32's exact
-    // planes accept (rasterizer/patent/tile_frustum_rounded.h): camera3d bounds only.
+    // each distance bounded by running error analysis so no tile or time is rejected that exact
+    // arithmetic on the fp32 planes accepts (rasterizer/patent/tile_frustum_rounded.h): 3D
+    // bounds only.
     NumberFormat planeFormat = NumberFormat::fp32();
+    // The arithmetic format of the per-sample ray-box tests (issue 35), each slab distance
+    // bounded by running error analysis (rasterizer/patent/moving_box_ray_rounded.h).
+    NumberFormat rayBoxFormat = NumberFormat::fp32();
 
     int trianglesPerGroup() const;
     // Throws InputError(source, "rasterizer.max_triangles_per_group" or

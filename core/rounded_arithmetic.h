@@ -44,13 +44,16 @@ class RoundedArithmetic {
     RoundedValue multiply(const RoundedValue& a, const RoundedValue& b) const;
 
     // The largest value of the format that is certainly no more than the exact one
-    // (value - error, rounded down), and the smallest certainly no less; infinite when that
-    // lies beyond a fixed-point range (saturating there would not bound).
+    // (value - error, rounded down), and the smallest certainly no less. Beyond a fixed-point
+    // range on the outward side (a lower bound below it, an upper bound above) the bound is
+    // infinite, as saturating there would not bound; on the other side saturating is a bound.
     double certainLowerBound(const RoundedValue& a) const;
     double certainUpperBound(const RoundedValue& a) const;
 
-    // a + b and a / b of two values of the format, rounded once as asked; beyond a fixed-point
-    // range, rounded up is infinity and rounded down minus infinity.
+    // a + b and a / b of two finite values of the format, rounded once as asked. Beyond a
+    // fixed-point range on the rounding's side (up above it, down below it) the result is
+    // infinite; on the other side it saturates, which is still directed. Infinite operands
+    // give a directed but saturated result, not IEEE's infinity.
     double add(double a, double b, Rounding rounding) const;
     double divide(double a, double b, Rounding rounding) const;
 

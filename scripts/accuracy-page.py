@@ -28,6 +28,10 @@ test suite runs this). Blocks:
   memory     docs/accuracy/memory/with_memory.csv and compute_only.csv: the same sweep with the
              memory system charged and without, each run's cycles side by side and its DRAM
              bytes, and the cheapest exact method at each spp either way
+  formats    docs/accuracy/formats/results.csv, a `sweep --vary node-format=... --vary
+             plane-format=... --vary vertex-format=...` run: each site in each format with the
+             others in fp32, every site in one format, and the Pareto front in error against
+             modelled energy and against modelled cycles
 
 Standard library only: it runs where the tests run.
 """
@@ -338,10 +342,52 @@ def memory_block():
     return "\n".join(out)
 
 
+SITES = ["node-format", "plane-format", "vertex-format"]
+
+
+def format_settings(row):
+    return dict(part.split("=", 1) for part in row["setting"].split(";"))
+
+
+def formats_block():
+    path = os.path.join(ROOT, "docs", "accuracy", "formats", "results.csv")
+    rows = read_csv(path)
+    by_setting = {tuple(format_settings(r)[s] for s in SITES): r for r in rows}
+    base = by_setting[("fp32",) * len(SITES)]
+    formats = in_order(format_settings(r)["node-format"] for r in rows)
+
+    def line(label, r):
+        cycles = float(r["modelled_cycles"]) / float(base["modelled_cycles"]) - 1
+        energy = float(r["energy_nj"]) / float(base["energy_nj"]) - 1
+        return (f"| {label} | {float(r['psnr']):.2f} | {float(r['rmse']):.6f} | "
+                f"{float(r['ssim']):.4f} | {mega(r['modelled_cycles'])} ({cycles:+.1%}) | "
+                f"{float(r['energy_nj']) / 1e6:.3f} ({energy:+.1%}) |")
+
+    out = [source_line(path), "",
+           "| formats | PSNR (dB) | RMSE | SSIM | modelled cycles | energy (mJ, arithmetic) |",
+           "|---|---|---|---|---|---|", line("every site fp32", base)]
+    for site in SITES:
+        for f in formats[1:]:
+            key = tuple(f if s == site else "fp32" for s in SITES)
+            out.append(line(f"`{site.replace('-', '_')}` {f}", by_setting[key]))
+    for f in formats[1:]:
+        out.append(line(f"every site {f}", by_setting[(f,) * len(SITES)]))
+    out += ["", f"The Pareto front over all {len(rows)} runs (no other run has lower or equal "
+            "cost and RMSE), cheapest first, as node / plane / vertex format:", "",
+            "| cost | front |", "|---|---|"]
+    for cost, name in (("energy_nj", "modelled energy"), ("modelled_cycles", "modelled cycles")):
+        points = [(float(r[cost]), float(r["rmse"])) for r in rows]
+        front = sorted(pareto(points), key=lambda i: points[i])
+        out.append(f"| {name} | " + ", ".join(
+            " / ".join(format_settings(rows[i])[s] for s in SITES) +
+            f" ({float(rows[i]['psnr']):.2f} dB)" for i in front) + " |")
+    return "\n".join(out)
+
+
 BLOCKS = {"settings": settings_block, "crossover": crossover_block,
           "motion-defocus": motion_defocus_block, "blur-levels": blur_levels_block,
           "cycles": cycles_block, "approximate": approximate_block,
-          "memory": memory_block}
+          "memory": memory_block, "formats": formats_block}
 
 
 def regenerate(page_text):

@@ -103,6 +103,17 @@ TEST(EnergyModel, APlaneFormatPricesThePlaneArithmeticInItTwice) {
                     3 * 2 * (3 * hw.energy.intAdd(24) + 4 * hw.energy.intMultiply(24)),
                 1e-9);
     EXPECT_EQ(energyReportJson(r)["plane_format"], "fp16");
+    // rasterizer.ray_box_format: the ray-box tests alike, and nothing else moves.
+    PatchOps boxes;
+    boxes[Op::RayBoxTests] = 7;
+    StorageFormats rayBoxes;
+    rayBoxes.rayBoxes = NumberFormat::bf16();
+    const EnergyReport b = estimateEnergy({boxes}, hw, nullptr, rayBoxes);
+    const OpArithmetic& box = opArithmetic(Op::RayBoxTests);
+    const double boxTest = 2 * ((box.adds + box.compares) * 0.4 + box.multiplies * 1.1) +
+                           box.operandBytes / 8 * std::sqrt(200.0);
+    EXPECT_NEAR(b.stagePicojoules[std::size_t(Stage::RS)], 7 * boxTest, 1e-9);
+    EXPECT_EQ(energyReportJson(b)["ray_box_format"], "bf16");
 }
 
 TEST(EnergyModel, TheMemorySystemIsPricedByLineAndByDramByte) {

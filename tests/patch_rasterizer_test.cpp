@@ -149,12 +149,13 @@ TEST(PatchRasterizer, NodeBoundsOutOfAFormatsRangeLoseNoHit) {
 }
 
 // The tile planes and leaf time intervals computed in a narrower format (rasterizer.plane_format,
-// issue 35), each distance bounded by its rounding error: the hits are the reference's, with
+// issue 35), and the ray-box tests (rasterizer.ray_box_format), each distance bounded by its
+// rounding error: the hits are the reference's, with
 // time refinement at the leaves and at every level, on blurred, static and grid-timed frames and
 // on the 80-unit bar, whose distances leave fixed4.4's range (the test then gives its planes
 // up); the narrower the format, the more the tile tests let through. A 2D bounds space, which
 // has no 3D planes, is refused.
-TEST(PatchRasterizer, PlaneFormatsLoseNoHitAndOnlyLetMoreThrough) {
+TEST(PatchRasterizer, PlaneAndRayBoxFormatsLoseNoHitAndOnlyLetMoreThrough) {
     SceneDesc grid = smallScene(readSceneFile(test::sourcePath("scenes/motion.json")));
     grid.film.sampler = SamplePattern::Grid;
     const SceneDesc bar = parseScene(
@@ -182,6 +183,27 @@ TEST(PatchRasterizer, PlaneFormatsLoseNoHitAndOnlyLetMoreThrough) {
                 EXPECT_EQ(c.mismatches, 0u) << base.path << " " << format << " " << everyLevel;
                 EXPECT_GE(totalOps(patch, Op::RayBoxTests), totalOps(fp32, Op::RayBoxTests))
                     << base.path << " " << format;
+            }
+    }
+    // The ray-box tests in the format (rasterizer.ray_box_format), bounded: the same hits, in
+    // every bounds space, with more rays reaching the triangles the narrower the format.
+    for (const SceneDesc& base : scenes) {
+        const RenderResult reference = renderWith(base, &methodNamed("reference"));
+        const RenderResult fp32 = renderWith(base, &methodNamed("patch"));
+        for (const char* format : {"fp16", "bf16", "fixed16.8", "fixed4.4"})
+            for (BoundsSpace space : {BoundsSpace::Camera3D, BoundsSpace::Screen2D}) {
+                SceneDesc scene = base;
+                ASSERT_TRUE(parseNumberFormat(format, scene.rasterizer.rayBoxFormat));
+                scene.rasterizer.boundsSpace = space;
+                const RenderResult patch = renderWith(scene, &methodNamed("patch"));
+                const Comparison c = compare(patch, reference);
+                EXPECT_EQ(c.mismatches, 0u)
+                    << base.path << " ray boxes in " << format << " " << boundsSpaceName(space);
+                if (space == BoundsSpace::Camera3D) {
+                    EXPECT_GE(totalOps(patch, Op::RayTriangleTests),
+                              totalOps(fp32, Op::RayTriangleTests))
+                        << base.path << " " << format;
+                }
             }
     }
     SceneDesc flat = scenes[0];

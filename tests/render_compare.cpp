@@ -81,17 +81,21 @@ Comparison expectStableAndExact(const SceneDesc& scene, const std::string& what)
         << what << ": counters differ between 1 and 2 threads";
     EXPECT_EQ(two.frame.color.rgb, again.frame.color.rgb) << what << ": runs differ";
     EXPECT_EQ(countersTwo.raw(), countersAgain.raw()) << what << ": counters differ between runs";
-    // The hierarchy's boxes stored in narrower formats, rounded outward (issue 35): the same
+    // The hierarchy's boxes stored in narrower formats, rounded outward, and (in the 3D bounds
+    // space) the tile planes computed in them with their error bounds (issue 35): the same
     // samples, in every format, fixed point's range exceeded included.
     for (const NumberFormat format :
          {NumberFormat::fp16(), NumberFormat::bf16(), NumberFormat::fixed(16, 8)}) {
         SceneDesc narrow = scene;
         narrow.rasterizer.nodeFormat = format;
+        const bool planes = scene.rasterizer.boundsSpace == BoundsSpace::Camera3D;
+        if (planes) narrow.rasterizer.planeFormat = format;
         RenderOptions options;
         options.method = &methodNamed("patch");
         options.threads = 2;
         const RenderResult r = renderScene(narrow, options);
-        const std::string in = what + ", nodes in " + formatName(format);
+        const std::string in =
+            what + ", nodes" + (planes ? " and planes" : "") + " in " + formatName(format);
         expectFinite(r, in);
         const Comparison f = compare(r, reference);
         EXPECT_EQ(f.falseRejects, 0u) << in << ": samples the reference hits and it missed";

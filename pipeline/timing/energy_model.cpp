@@ -44,6 +44,14 @@ double operandScale(Op op, const StorageFormats& formats) {
     }
 }
 
+// The format `op`'s arithmetic runs in: a computing site's (plane_format, ray_box_format), else
+// fp32.
+NumberFormat arithmeticFormat(Op op, const StorageFormats& formats) {
+    if (op == Op::PlaneTests || op == Op::TimeIntervals) return formats.planes;
+    if (op == Op::RayBoxTests) return formats.rayBoxes;
+    return NumberFormat::fp32();
+}
+
 double linear(double x, double x0, double y0, double x1, double y1) {
     return y0 + (x - x0) * (y1 - y0) / (x1 - x0);
 }
@@ -137,13 +145,11 @@ EnergyReport estimateEnergy(const std::vector<PatchOps>& patches, const Hardware
     const EnergyTable& table = hardware.energy;
     for (int k = 0; k < kOpCount; ++k) {
         const Op op = Op(k);
-        const bool inPlaneFormat = formats.planes != NumberFormat::fp32() &&
-                                   (op == Op::PlaneTests || op == Op::TimeIntervals);
+        const NumberFormat arithmetic = arithmeticFormat(op, formats);
+        const int copies = arithmetic == NumberFormat::fp32() ? 1 : 2;  // value and bound
         report.stagePicojoules[std::size_t(stageOf(op))] +=
-            total.ops[std::size_t(k)] *
-            opPicojoules(op, table, double(hardware.scratchBudgetBytes), operandScale(op, formats),
-                         inPlaneFormat ? formats.planes : NumberFormat::fp32(),
-                         inPlaneFormat ? 2 : 1);
+            total.ops[std::size_t(k)] * opPicojoules(op, table, double(hardware.scratchBudgetBytes),
+                                                     operandScale(op, formats), arithmetic, copies);
     }
     report.triangles = total[Op::Triangles];
     if (!memory) return report;
@@ -215,6 +221,7 @@ nlohmann::ordered_json energyReportJson(const EnergyReport& report) {
     json["node_format"] = formatName(report.formats.nodes);
     json["vertex_format"] = formatName(report.formats.vertices);
     json["plane_format"] = formatName(report.formats.planes);
+    json["ray_box_format"] = formatName(report.formats.rayBoxes);
     json["table"] = energyTableJson(report.table);
     return json;
 }

@@ -97,9 +97,9 @@ double opPicojoules(Op op, const EnergyTable& table, double scratchBytes, double
 
 // The formats of issue 35's sites (docs/PRECISION.md): values stored at the two storage sites
 // (rasterizer.node_format and rasterizer.vertex_format) and the tile planes' arithmetic
-// (rasterizer.plane_format).
+// (rasterizer.plane_format) and the ray-box tests' (rasterizer.ray_box_format).
 struct StorageFormats {
-    NumberFormat nodes, vertices, planes;
+    NumberFormat nodes, vertices, planes, rayBoxes;
 };
 
 struct EnergyReport {
@@ -120,7 +120,8 @@ struct EnergyReport {
 // boxes (nodes_built, plane_tests, ray_box_tests) or the domain-shaded positions
 // (ray_triangle_tests, triangle_setups, edge_setups) move that many bits a value instead of 32.
 // With a narrower plane format, plane_tests and time_intervals compute in it, twice over: the
-// value and its error bound (tile_frustum_rounded.h).
+// value and its error bound (tile_frustum_rounded.h); ray_box_tests likewise in a narrower ray-box
+// format.
 EnergyReport estimateEnergy(const std::vector<PatchOps>& patches, const HardwareConfig& hardware,
                             const MemoryReport* memory, const StorageFormats& formats = {});
 

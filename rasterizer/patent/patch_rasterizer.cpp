@@ -17,7 +17,8 @@ PatchRasterizer::PatchRasterizer(const Camera& camera, const LensModel& lens,
       samples_(samples),
       effects_(effects),
       options_(options),
-      grid_{camera.width(), camera.height(), options.tileSize} {
+      grid_{camera.width(), camera.height(), options.tileSize},
+      rayBoxArithmetic_(options.rayBoxFormat) {
     if (!effects_.defocus) lens_.radius = 0;
 }
 
@@ -73,6 +74,7 @@ void PatchRasterizer::rasterizeTile(const MovingMesh& mesh, const Group& group, 
     const int branch = branchNode(options_.branchMethod, traversal, group.hierarchy.depth());
     StreamPass pass{&mesh, &group.hierarchy, &traversal, branch, options_.zCulling};
     pass.screenVertices = group.screenVertices.data();
+    if (options_.rayBoxFormat != NumberFormat::fp32()) pass.rayBoxArithmetic = &rayBoxArithmetic_;
     if (!mesh.opaque && targets.transparent) {
         pass.transparent = targets.transparent;
         pass.pool = targets.pool;

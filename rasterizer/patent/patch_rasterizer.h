@@ -22,6 +22,7 @@
 #include "core/camera.h"
 #include "core/effects.h"
 #include "core/rasterizer_options.h"
+#include "core/rounded_arithmetic.h"
 #include "core/samples.h"
 #include "rasterizer/common/screen_triangle.h"
 #include "rasterizer/common/tile_grid.h"
@@ -72,6 +73,7 @@ class PatchRasterizer {
     Effects effects_;
     RasterizerOptions options_;
     TileGrid grid_;
+    RoundedArithmetic rayBoxArithmetic_;  // options_.rayBoxFormat's, when narrower than fp32
 };
 
 }  // namespace patchsim

@@ -12,6 +12,7 @@
 
 #include "rasterizer/common/conservative_margins.h"
 #include "rasterizer/common/z_culling.h"
+#include "rasterizer/patent/moving_box_ray_rounded.h"
 
 HWY_BEFORE_NAMESPACE();
 namespace patchsim {
@@ -292,8 +293,13 @@ class Pass {
         if (tests == 0) return;
         boxTests_ += std::int64_t(tests);
         if (kCount) addWork(SampleWork::BoxTests, index, active, 1);
-        MF hit = hn::And(active, hitsBox(*c.box, s));
-        if (rays_.anyParallel()) hit = parallelLanes(*c.box, index, active, hit);
+        MF hit;
+        if (pass_.rayBoxArithmetic) {
+            hit = roundedLanes(*c.box, index, active);
+        } else {
+            hit = hn::And(active, hitsBox(*c.box, s));
+            if (rays_.anyParallel()) hit = parallelLanes(*c.box, index, active, hit);
+        }
         c.count = append<kAtOrigin, kToLeaf>(c.out, c.count, hit, index, rays);
     }
 
@@ -340,6 +346,24 @@ class Pass {
                                  hn::Add(hn::Abs(nearest), hn::Abs(farthest)));
         return hn::Le(nearest,
                       hn::Add(hn::Add(farthest, slack), hn::Set(d_, kRayBoxAbsoluteSlack)));
+    }
+
+    // rasterizer.ray_box_format: every active lane through the emulated, bounded test, which
+    // ends each ray where the vector test does (its z-culled end).
+    MF roundedLanes(const LBBox& box, VI index, MF active) const {
+        alignas(64) std::int32_t lanes[kMaxLanes];
+        hn::Store(index, di_, lanes);
+        std::uint16_t bits = 0;
+        for (std::uint16_t rest = bitsOf(d_, active); rest; rest &= std::uint16_t(rest - 1)) {
+            const int lane = std::countr_zero(rest);
+            const int i = lanes[lane];
+            SlabRay ray = rays_.slabRay(i);
+            ray.lambdaMax = rays_.rayEnd[i];
+            if (hitsMovingBoxRounded(ray, box, *pass_.rayBoxArithmetic,
+                                     PlaneErrorHandling::Bounded))
+                bits = std::uint16_t(bits | (1u << lane));
+        }
+        return maskOf(d_, bits);
     }
 
     // Rays parallel to an axis take the scalar test.

@@ -35,6 +35,8 @@
 
 namespace patchsim {
 
+class RoundedArithmetic;
+
 // Levels of mask scratch a pass may use: the branch node's rays, then one per level below it.
 inline constexpr int kMaxStreamLevels = kMaxHierarchyDepth + 2;
 
@@ -50,6 +52,9 @@ struct StreamPass {
     int pool = 0;
     // A static frame's projected leaf vertices (PatchRasterizer::Group), for screen_pass.h.
     const ScreenVertex* screenVertices = nullptr;
+    // rasterizer.ray_box_format narrower than fp32: the ray-box tests in its arithmetic, bounded
+    // (moving_box_ray_rounded.h), lane by lane; null for the fp32 vector test.
+    const RoundedArithmetic* rayBoxArithmetic = nullptr;
 };
 
 // Traces the pass's rays; nearer opaque hits are kept in `rays`, counts go to `work`.
