@@ -191,7 +191,8 @@ TEST(PatchRasterizer, PlaneAndRayBoxFormatsLoseNoHitAndOnlyLetMoreThrough) {
         const RenderResult reference = renderWith(base, &methodNamed("reference"));
         const RenderResult fp32 = renderWith(base, &methodNamed("patch"));
         for (const char* format : {"fp16", "bf16", "fixed16.8", "fixed4.4"})
-            for (BoundsSpace space : {BoundsSpace::Camera3D, BoundsSpace::Screen2D}) {
+            for (BoundsSpace space :
+                 {BoundsSpace::Camera3D, BoundsSpace::Homogeneous2D, BoundsSpace::Screen2D}) {
                 SceneDesc scene = base;
                 ASSERT_TRUE(parseNumberFormat(format, scene.rasterizer.rayBoxFormat));
                 scene.rasterizer.boundsSpace = space;

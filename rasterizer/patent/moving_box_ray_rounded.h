@@ -7,7 +7,7 @@
 // The test stays conservative by widening: each slab distance is known to lie between its
 // certain lower and upper bounds, so the ray's entry (a maximum of minima) lies between the same
 // maxima and minima of those bounds, and so does its exit. The test accepts when the lowest
-// possible entry is no beyond the highest possible exit plus the fp32 test's slack taken at the
+// possible entry is no further than the highest possible exit plus the fp32 test's slack taken at the
 // largest magnitudes either could have: whatever the fp32 test accepts in exact arithmetic, this
 // accepts. An axis whose distances leave the format's range adds no constraint; an axis the ray
 // runs parallel to is decided as in fp32 (no arithmetic beyond a blend).

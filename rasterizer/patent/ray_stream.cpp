@@ -86,7 +86,7 @@ using RayList = TileRays::RayList;
 // full however few rays reach that box, and loads its data instead of gathering it. What the list
 // does not carry (the ray end, the triangle test's data) is loaded where the indices are
 // consecutive, else gathered.
-template <bool kEveryHit, bool kCount>
+template <bool kEveryHit, bool kCount, bool kEmulatedBoxes>
 class Pass {
   public:
     Pass(TileRays& rays, const StreamPass& pass, RasterWork& work)
@@ -177,9 +177,8 @@ class Pass {
             }
             const ListedRays data = listedAt<kAtOrigin>(tile, at);
             const VF end = hn::Load(d_, rays_.rayEnd + at);
-            MF hit =
-                hn::And(m, hitsBox(box, SlabLanes<false, kAtOrigin>::of(d_, rays_, data, end)));
-            if (rays_.anyParallel()) hit = parallelLanes(box, index, m, hit);
+            const MF hit =
+                boxHits(box, index, m, SlabLanes<false, kAtOrigin>::of(d_, rays_, data, end));
             count = append<kAtOrigin>(out, count, hit, index, data);
         }
         boxTests_ += tested;
@@ -293,13 +292,7 @@ class Pass {
         if (tests == 0) return;
         boxTests_ += std::int64_t(tests);
         if (kCount) addWork(SampleWork::BoxTests, index, active, 1);
-        MF hit;
-        if (pass_.rayBoxArithmetic) {
-            hit = roundedLanes(*c.box, index, active);
-        } else {
-            hit = hn::And(active, hitsBox(*c.box, s));
-            if (rays_.anyParallel()) hit = parallelLanes(*c.box, index, active, hit);
-        }
+        const MF hit = boxHits(*c.box, index, active, s);
         c.count = append<kAtOrigin, kToLeaf>(c.out, c.count, hit, index, rays);
     }
 
@@ -348,18 +341,27 @@ class Pass {
                       hn::Add(hn::Add(farthest, slack), hn::Set(d_, kRayBoxAbsoluteSlack)));
     }
 
-    // rasterizer.ray_box_format: every active lane through the emulated, bounded test, which
+    // Which active lanes meet `box`: the vector test (rays parallel to an axis take the scalar
+    // one), or with rasterizer.ray_box_format the emulated one (a template parameter: a branch
+    // here cost the fp32 walk 2% of a render).
+    template <bool kStill, bool kAtOrigin>
+    HWY_INLINE MF boxHits(const LBBox& box, VI index, MF active,
+                          const SlabLanes<kStill, kAtOrigin>& s) const {
+        if constexpr (kEmulatedBoxes) return roundedLanes(box, index, active);
+        const MF hit = hn::And(active, hitsBox(box, s));
+        return rays_.anyParallel() ? parallelLanes(box, index, active, hit) : hit;
+    }
+
+    // rasterizer.ray_box_format: every active lane through the emulated, bounded test; slabRay
     // ends each ray where the vector test does (its z-culled end).
-    MF roundedLanes(const LBBox& box, VI index, MF active) const {
+    HWY_NOINLINE MF roundedLanes(const LBBox& box, VI index, MF active) const {
         alignas(64) std::int32_t lanes[kMaxLanes];
         hn::Store(index, di_, lanes);
         std::uint16_t bits = 0;
         for (std::uint16_t rest = bitsOf(d_, active); rest; rest &= std::uint16_t(rest - 1)) {
             const int lane = std::countr_zero(rest);
             const int i = lanes[lane];
-            SlabRay ray = rays_.slabRay(i);
-            ray.lambdaMax = rays_.rayEnd[i];
-            if (hitsMovingBoxRounded(ray, box, *pass_.rayBoxArithmetic,
+            if (hitsMovingBoxRounded(rays_.slabRay(i), box, *pass_.rayBoxArithmetic,
                                      PlaneErrorHandling::Bounded))
                 bits = std::uint16_t(bits | (1u << lane));
         }
@@ -718,17 +720,25 @@ class Pass {
     TimeRange times_[2 * kMaxLeavesPerHierarchy - 1];
 };
 
-void TraceImpl(TileRays& rays, const StreamPass& pass, RasterWork& work) {
+template <bool kEmulatedBoxes>
+void trace(TileRays& rays, const StreamPass& pass, RasterWork& work) {
     const bool everyHit = pass.transparent != nullptr;
     const bool counting = rays.work[0] != nullptr;
     if (everyHit && counting)
-        Pass<true, true>(rays, pass, work).run();
+        Pass<true, true, kEmulatedBoxes>(rays, pass, work).run();
     else if (everyHit)
-        Pass<true, false>(rays, pass, work).run();
+        Pass<true, false, kEmulatedBoxes>(rays, pass, work).run();
     else if (counting)
-        Pass<false, true>(rays, pass, work).run();
+        Pass<false, true, kEmulatedBoxes>(rays, pass, work).run();
     else
-        Pass<false, false>(rays, pass, work).run();
+        Pass<false, false, kEmulatedBoxes>(rays, pass, work).run();
+}
+
+void TraceImpl(TileRays& rays, const StreamPass& pass, RasterWork& work) {
+    if (pass.rayBoxArithmetic)
+        trace<true>(rays, pass, work);
+    else
+        trace<false>(rays, pass, work);
 }
 
 float FarthestImpl(const float* depth, int count, float farDepth) {
