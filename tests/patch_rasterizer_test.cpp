@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <filesystem>
+#include <nlohmann/json.hpp>
 #include <random>
 #include <tuple>
 
@@ -114,6 +115,22 @@ TEST(PatchRasterizer, EveryOptionGivesTheReferenceVisibility) {
     }
 }
 
+// A bar 80 units wide: only its x bounds leave a narrow fixed-point range, so its screen bounds
+// reach millions of pixels while its depth stays in front of the camera. `moving`: it also moves
+// half a unit across the shutter.
+SceneDesc eightyUnitBar(bool moving) {
+    nlohmann::json scene = nlohmann::json::parse(
+        R"({"camera": {"position": [0, 0, 6], "look_at": [0, 0, 0], "fov_y_degrees": 40},
+            "film": {"width": 48, "height": 36, "spp": 4, "seed": 2},
+            "objects": [{"cage": "catmark_cube_creases1.obj",
+                         "open": {"translate": [0, 0, 3], "scale": [40, 0.4, 0.4]}}]})");
+    if (moving) {
+        scene["shutter"] = {{"open", 0}, {"close", 1}};
+        scene["objects"][0]["close"] = {{"translate", {0.5, 0.2, 3}}, {"scale", {40, 0.4, 0.4}}};
+    }
+    return parseScene(scene.dump(), "bar.json", test::sourcePath("scenes/cages"));
+}
+
 // Node formats so narrow that most bounds leave their range and open to the largest float: rays
 // at exactly t = 0 or 1 (defocus without motion, a grid sampler's times) weigh a box end by zero,
 // and bounds far off screen reach the tile binning; neither may lose a hit (an infinite bound
@@ -121,17 +138,9 @@ TEST(PatchRasterizer, EveryOptionGivesTheReferenceVisibility) {
 TEST(PatchRasterizer, NodeBoundsOutOfAFormatsRangeLoseNoHit) {
     SceneDesc grid = smallScene(readSceneFile(test::sourcePath("scenes/motion.json")));
     grid.film.sampler = SamplePattern::Grid;
-    // A bar 80 units wide: only its x bounds leave the range, so its screen bounds reach
-    // millions of pixels while its depth stays in front of the camera.
-    const SceneDesc bar = parseScene(
-        R"({"camera": {"position": [0, 0, 6], "look_at": [0, 0, 0], "fov_y_degrees": 40},
-            "film": {"width": 48, "height": 36, "spp": 4, "seed": 2},
-            "objects": [{"cage": "catmark_cube_creases1.obj",
-                         "open": {"translate": [0, 0, 3], "scale": [40, 0.4, 0.4]}}]})",
-        "bar.json", test::sourcePath("scenes/cages"));
     const SceneDesc scenes[] = {smallScene(readSceneFile(test::sourcePath("scenes/defocus.json"))),
                                 smallScene(readSceneFile(test::sourcePath("scenes/static.json"))),
-                                grid, bar};
+                                grid, eightyUnitBar(false)};
     for (const SceneDesc& base : scenes) {
         const RenderResult reference = renderWith(base, &methodNamed("reference"));
         for (const char* format : {"fixed2.0", "fixed4.4", "fixed2.30"})
@@ -158,17 +167,10 @@ TEST(PatchRasterizer, NodeBoundsOutOfAFormatsRangeLoseNoHit) {
 TEST(PatchRasterizer, PlaneAndRayBoxFormatsLoseNoHitAndOnlyLetMoreThrough) {
     SceneDesc grid = smallScene(readSceneFile(test::sourcePath("scenes/motion.json")));
     grid.film.sampler = SamplePattern::Grid;
-    const SceneDesc bar = parseScene(
-        R"({"camera": {"position": [0, 0, 6], "look_at": [0, 0, 0], "fov_y_degrees": 40},
-            "film": {"width": 48, "height": 36, "spp": 4, "seed": 2},
-            "shutter": {"open": 0, "close": 1},
-            "objects": [{"cage": "catmark_cube_creases1.obj",
-                         "open": {"translate": [0, 0, 3], "scale": [40, 0.4, 0.4]},
-                         "close": {"translate": [0.5, 0.2, 3], "scale": [40, 0.4, 0.4]}}]})",
-        "bar.json", test::sourcePath("scenes/cages"));
     const SceneDesc scenes[] = {
         smallScene(readSceneFile(test::sourcePath("scenes/motion_defocus.json"))),
-        smallScene(readSceneFile(test::sourcePath("scenes/static.json"))), grid, bar};
+        smallScene(readSceneFile(test::sourcePath("scenes/static.json"))), grid,
+        eightyUnitBar(true)};
     for (const SceneDesc& base : scenes) {
         const RenderResult reference = renderWith(base, &methodNamed("reference"));
         const RenderResult fp32 = renderWith(base, &methodNamed("patch"));
