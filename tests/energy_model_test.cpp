@@ -86,7 +86,7 @@ TEST(EnergyModel, APlaneFormatPricesThePlaneArithmeticInItTwice) {
     PatchOps ops;
     ops[Op::PlaneTests] = 10;
     ops[Op::TimeIntervals] = 3;
-    StorageFormats formats;
+    SiteFormats formats;
     formats.planes = NumberFormat::fp16();
     const EnergyReport r = estimateEnergy({ops}, hw, nullptr, formats);
     const double scratch = 1.5 / 8 * std::sqrt(200.0);
@@ -106,7 +106,7 @@ TEST(EnergyModel, APlaneFormatPricesThePlaneArithmeticInItTwice) {
     // rasterizer.ray_box_format: the ray-box tests alike, and nothing else moves.
     PatchOps boxes;
     boxes[Op::RayBoxTests] = 7;
-    StorageFormats rayBoxes;
+    SiteFormats rayBoxes;
     rayBoxes.rayBoxes = NumberFormat::bf16();
     const EnergyReport b = estimateEnergy({boxes}, hw, nullptr, rayBoxes);
     const OpArithmetic& box = opArithmetic(Op::RayBoxTests);

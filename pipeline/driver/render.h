@@ -45,7 +45,7 @@ struct RenderResult {
     std::unique_ptr<MemoryTrace> memoryTrace;
     std::optional<SampleGenerator> sampleSet;  // the frame's samples, when the trace is kept
     ControlPointFetch controlPointFetch;       // what IA reads per patch, when the trace is kept
-    StorageFormats formats;  // the hierarchy's boxes (the patch method's) and the positions
+    SiteFormats formats;  // issue 35's sites: positions, and the patch method's boxes and tests
 };
 
 RenderResult renderScene(const SceneDesc& scene, const RenderOptions& options);

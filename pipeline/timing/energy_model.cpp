@@ -29,7 +29,7 @@ constexpr Entry kEntries[] = {
 constexpr double kEntryMin = 1e-12, kEntryMax = 1e9;  // picojoules, or the scale factor
 
 // The share of 32 bits a value of `op`'s operands takes in its storage site's format.
-double operandScale(Op op, const StorageFormats& formats) {
+double operandScale(Op op, const SiteFormats& formats) {
     switch (op) {
         case Op::NodesBuilt:
         case Op::PlaneTests:
@@ -46,7 +46,7 @@ double operandScale(Op op, const StorageFormats& formats) {
 
 // The format `op`'s arithmetic runs in: a computing site's (plane_format, ray_box_format), else
 // fp32.
-NumberFormat arithmeticFormat(Op op, const StorageFormats& formats) {
+NumberFormat arithmeticFormat(Op op, const SiteFormats& formats) {
     if (op == Op::PlaneTests || op == Op::TimeIntervals) return formats.planes;
     if (op == Op::RayBoxTests) return formats.rayBoxes;
     return NumberFormat::fp32();
@@ -135,7 +135,7 @@ double EnergyReport::memoryTotalPicojoules() const {
 }
 
 EnergyReport estimateEnergy(const std::vector<PatchOps>& patches, const HardwareConfig& hardware,
-                            const MemoryReport* memory, const StorageFormats& formats) {
+                            const MemoryReport* memory, const SiteFormats& formats) {
     static_assert(kEnergyMemoryParts == kCacheClients + 1);
     PatchOps total;
     for (const PatchOps& p : patches) total.add(p);

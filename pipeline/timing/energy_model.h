@@ -95,10 +95,10 @@ bool isProgrammable(Stage s);  // VS, HS, DS and PS run shaders
 double opPicojoules(Op op, const EnergyTable& table, double scratchBytes, double operandScale = 1,
                     const NumberFormat& arithmetic = NumberFormat::fp32(), int copies = 1);
 
-// The formats of issue 35's sites (docs/PRECISION.md): values stored at the two storage sites
-// (rasterizer.node_format and rasterizer.vertex_format) and the tile planes' arithmetic
-// (rasterizer.plane_format) and the ray-box tests' (rasterizer.ray_box_format).
-struct StorageFormats {
+// The formats of issue 35's sites (docs/PRECISION.md): what the two storage sites store
+// (rasterizer.node_format, rasterizer.vertex_format) and what the two computing sites compute in
+// (rasterizer.plane_format, rasterizer.ray_box_format).
+struct SiteFormats {
     NumberFormat nodes, vertices, planes, rayBoxes;
 };
 
@@ -108,7 +108,7 @@ struct EnergyReport {
     bool memoryModelled = false;
     double triangles = 0;  // the tessellator's, for the energy per triangle
     EnergyTable table;     // what the frame was priced at
-    StorageFormats formats;
+    SiteFormats formats;
 
     double computePicojoules() const;
     double memoryTotalPicojoules() const;
@@ -123,7 +123,7 @@ struct EnergyReport {
 // value and its error bound (tile_frustum_rounded.h); ray_box_tests likewise in a narrower ray-box
 // format.
 EnergyReport estimateEnergy(const std::vector<PatchOps>& patches, const HardwareConfig& hardware,
-                            const MemoryReport* memory, const StorageFormats& formats = {});
+                            const MemoryReport* memory, const SiteFormats& formats = {});
 
 // The hardware file's optional "energy" section: any entry by its key (PATCHSIM_ENERGY_ENTRIES)
 // and "process_scale", each finite and positive; the rest keep their defaults. Throws InputError
