@@ -360,12 +360,14 @@ def formats_block():
         cycles = float(r["modelled_cycles"]) / float(base["modelled_cycles"]) - 1
         energy = float(r["energy_nj"]) / float(base["energy_nj"]) - 1
         return (f"| {label} | {float(r['psnr']):.2f} | {float(r['rmse']):.6f} | "
-                f"{float(r['ssim']):.4f} | {mega(r['modelled_cycles'])} ({cycles:+.1%}) | "
+                f"{float(r['ssim']):.4f} | {float(r['sample_test_efficiency']):.3f} | "
+                f"{mega(r['modelled_cycles'])} ({cycles:+.1%}) | "
                 f"{float(r['energy_nj']) / 1e6:.3f} ({energy:+.1%}) |")
 
     out = [source_line(path), "",
-           "| formats | PSNR (dB) | RMSE | SSIM | modelled cycles | energy (mJ, arithmetic) |",
-           "|---|---|---|---|---|---|", line("every site fp32", base)]
+           "| formats | PSNR (dB) | RMSE | SSIM | sample test efficiency | modelled cycles "
+           "| energy (mJ, arithmetic) |",
+           "|---|---|---|---|---|---|---|", line("every site fp32", base)]
     for site in SITES:
         for f in formats[1:]:
             key = tuple(f if s == site else "fp32" for s in SITES)
