@@ -78,6 +78,8 @@ TEST(CliBadInput, EmptyPathsAreRefusedNotTakenForAFolder) {
     expectRefused("verify-tiles --cases 10 --format fp16,fixed1.4", "--format: 'fixed1.4' is not");
     expectRefused("verify-tiles --cases 10 --format fp32", "--format: 'fp32' is not a reduced");
     expectRefused("verify-tiles --cases 10 --format fp16,", "--format: '' is not a reduced");
+    expectRefused("verify-tiles --cases 10 --family near", "--family: 'near' is not a case family");
+    expectRefused("verify-tiles --family '' --replay lens:3", "--family: empty value");
     expectRefused("info ''", "scene: empty file name");
 }
 

@@ -267,5 +267,64 @@ TEST(TileTestCases, NamesRoundTripAndCasesAreReproducible) {
     EXPECT_EQ(kinds.size(), 4u);  // still, depth-only, moving, camera motion
 }
 
+// The hard-case families: the mixed family is the default mix, case for case; each other family
+// has its extreme (boxes across the near plane, near the far plane, moving tens of units, smaller
+// than a pixel, larger than the view, an aperture as wide as the distance); and in every family
+// the conservative variants, fixed16.8 at every site included, never reject falsely while the
+// naive ones do somewhere.
+TEST(TileTestCases, EveryFamilyHasItsExtremeAndNoConservativeVariantRejectsFalsely) {
+    for (int i = 0; i < 50; ++i) {
+        const BoxCase mixed = makeBoxCase(3, CaseModel::Lens, i, CaseFamily::Mixed);
+        EXPECT_EQ(mixed.input.box.bounds1.lower,
+                  makeBoxCase(3, CaseModel::Lens, i).input.box.bounds1.lower);
+    }
+    int acrossNear = 0, beyondSixty = 0, fast = 0, subPixel = 0, wide = 0, wideLens = 0;
+    for (int i = 0; i < 200; ++i) {
+        auto box = [&](CaseFamily f) { return makeBoxCase(3, CaseModel::Lens, i, f).input; };
+        const LBBox nearBox = box(CaseFamily::NearPlane).box;
+        acrossNear += nearBox.bounds0.upper.z > -0.1f || nearBox.bounds1.upper.z > -0.1f;
+        beyondSixty += box(CaseFamily::FarDepth).box.bounds0.upper.z < -55.0f;
+        const LBBox moving = box(CaseFamily::HugeMotion).box;
+        fast += glm::length(moving.bounds1.lower - moving.bounds0.lower) > 10.0f;
+        const LBBox tiny = box(CaseFamily::Tiny).box;
+        const float depth = -tiny.bounds0.upper.z;
+        subPixel += (tiny.bounds0.upper.x - tiny.bounds0.lower.x) < 0.009f * depth;
+        const LBBox huge = box(CaseFamily::Huge).box;
+        wide += (huge.bounds0.upper.x - huge.bounds0.lower.x) > 4.0f;
+        const TileTestInput lens = box(CaseFamily::WideLens);
+        wideLens += lens.lens.radius >
+                    0.29f * -0.5f * (lens.box.bounds0.lower.z + lens.box.bounds0.upper.z);
+    }
+    EXPECT_GT(acrossNear, 50);
+    EXPECT_EQ(beyondSixty, 200);
+    EXPECT_GT(fast, 40);  // the moving kinds (still and camera motion keep theirs)
+    EXPECT_GT(subPixel, 150);
+    EXPECT_GT(wide, 150);
+    EXPECT_EQ(wideLens, 200);
+
+    std::vector<std::unique_ptr<ScopedTileTest>> scoped;
+    for (auto& variant : formatTileTests(NumberFormat::fixed(16, 8)))
+        scoped.push_back(std::make_unique<ScopedTileTest>(std::move(variant)));
+    for (const CaseFamily family :
+         {CaseFamily::NearPlane, CaseFamily::FarDepth, CaseFamily::HugeMotion, CaseFamily::Tiny,
+          CaseFamily::Huge, CaseFamily::WideLens}) {
+        TileVerifierOptions o;
+        o.cases = 1500;
+        o.seed = 5;
+        o.witnessEvery = 16;
+        o.family = family;
+        const TileVerifierResult result = verifyTileTests(o);
+        EXPECT_FALSE(result.anyFalseReject()) << caseFamilyName(family);
+        std::int64_t naiveRejects = 0;
+        for (const TileTestReport& r : result.reports)
+            if (r.lossy) naiveRejects += r.falseRejects;
+        EXPECT_GT(naiveRejects, 0) << caseFamilyName(family);
+    }
+    CaseFamily parsed;
+    EXPECT_TRUE(parseCaseFamily("wide-lens", parsed));
+    EXPECT_EQ(parsed, CaseFamily::WideLens);
+    EXPECT_FALSE(parseCaseFamily("wide lens", parsed));
+}
+
 }  // namespace
 }  // namespace patchsim

@@ -614,7 +614,9 @@ void writeVerifySummary(const TileVerifierResult& result, std::ostream& out) {
     }
 }
 
-void printVerifyReport(const TileVerifierResult& result, std::uint64_t seed) {
+void printVerifyReport(const TileVerifierResult& result, std::uint64_t seed, CaseFamily family) {
+    const std::string familyFlag =
+        family == CaseFamily::Mixed ? "" : std::string(" --family ") + caseFamilyName(family);
     for (const TileTestReport& r : result.reports) {
         char line[512], excess[128] = "excess -";
         if (r.excess.count > 0)
@@ -629,7 +631,7 @@ void printVerifyReport(const TileVerifierResult& result, std::uint64_t seed) {
                       r.falseAcceptPercent(), excess);
         std::cout << line << "\n";
         if (r.falseRejects > 0)
-            std::cout << "  first false reject: patchsim verify-tiles --seed " << seed
+            std::cout << "  first false reject: patchsim verify-tiles --seed " << seed << familyFlag
                       << " --replay " << r.firstFailure << "\n";
     }
     std::cout << "witness: " << result.witnessCases << " cases sampled, " << result.witnessHits
@@ -664,9 +666,13 @@ std::vector<std::unique_ptr<ScopedTileTest>> registerFormatTileTests(const std::
 
 int runVerifyTiles(const JobSettings& s) {
     const auto seed = std::uint64_t(s.seed);
+    CaseFamily family;
+    if (!parseCaseFamily(s.family, family))
+        throw InputError("command line", "--family",
+                         "'" + s.family + "' is not a case family (" + caseFamilyNames() + ")");
     const auto formatVariants = registerFormatTileTests(s.formats);
     if (!s.replay.empty()) {
-        if (!replayTileCase(s.replay, seed, std::cout))
+        if (!replayTileCase(s.replay, seed, std::cout, family))
             throw InputError(
                 "command line", "--replay",
                 "'" + s.replay + "' is not a case name (pinhole:N, lens:N or hierarchy:N)");
@@ -677,6 +683,7 @@ int runVerifyTiles(const JobSettings& s) {
     o.seed = seed;
     o.threads = s.threads;
     o.witnessEvery = s.witnessEvery;
+    o.family = family;
     OutputSet outputs;
     std::ofstream csv;
     if (!s.summary.empty()) outputs.file(s.summary, "--summary");  // checked before the work
@@ -694,7 +701,7 @@ int runVerifyTiles(const JobSettings& s) {
     if (!s.summary.empty())
         outputs.writeText(s.summary, "--summary",
                           [&](std::ostream& out) { writeVerifySummary(result, out); });
-    printVerifyReport(result, seed);
+    printVerifyReport(result, seed, family);
     outputs.commit();
     return result.anyFalseReject() ? 1 : 0;
 }

@@ -198,6 +198,9 @@ std::vector<JobOption> makeTable() {
     t.push_back(O("--csv", kVerify, K::OutputFile, &S::csv, "Write one row per case and variant"));
     t.push_back(O("--summary", kVerify, K::OutputFile, &S::summary,
                   "Write one row per variant (for scripts/plot_tile_tests.py)"));
+    t.push_back(O("--family", kVerify, K::Text, &S::family,
+                  "The box cases' family: mixed (the random mix), or one hard case pushed to its "
+                  "extreme: near-plane, far-depth, huge-motion, tiny, huge, wide-lens"));
     t.push_back(O("--replay", kVerify, K::Text, &S::replay,
                   "Print one case (e.g. lens:1234) in full and every variant's answer"));
     t.push_back(O("--threads", kScenes | kVerify, K::Integer, &S::threads,

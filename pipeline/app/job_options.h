@@ -69,7 +69,8 @@ struct JobSettings {
     std::int64_t cases = 2000, seed = 1;
     int witnessEvery = 64;
     std::string csv, summary, replay;
-    std::string formats;  // --format: number formats whose variants join the run
+    std::string formats;           // --format: number formats whose variants join the run
+    std::string family = "mixed";  // --family: the box cases' family
     // sweep
     std::vector<std::string> methods;
     std::vector<int> sppList;

@@ -92,7 +92,67 @@ const char* boxCaseKindName(BoxCaseKind kind) {
     return nameIn(kBoxCaseKinds, kind);
 }
 
-BoxCase makeBoxCase(std::uint64_t seed, CaseModel model, std::int64_t number) {
+namespace {
+
+constexpr EnumName<CaseFamily> kCaseFamilies[] = {
+    {CaseFamily::Mixed, "mixed"},        {CaseFamily::NearPlane, "near-plane"},
+    {CaseFamily::FarDepth, "far-depth"}, {CaseFamily::HugeMotion, "huge-motion"},
+    {CaseFamily::Tiny, "tiny"},          {CaseFamily::Huge, "huge"},
+    {CaseFamily::WideLens, "wide-lens"}};
+
+// The box's depth, size, motion and lens pushed to the family's extreme; the mix's own draws are
+// made first, so the mixed family's cases stay as they were.
+void pushToFamily(CaseFamily family, CaseRandom& random, float& depth, Vec3& half, Vec3& motion,
+                  LensModel& lens) {
+    switch (family) {
+        case CaseFamily::Mixed:
+            break;
+        case CaseFamily::NearPlane:  // the near plane is at 0.1
+            depth = 0.02f + 0.3f * random.unit();
+            half = random.unit3() * (0.005f + 0.1f * random.unit());
+            break;
+        case CaseFamily::FarDepth:  // the far plane is at 100
+            depth = 60.0f + 45.0f * random.unit();
+            break;
+        case CaseFamily::HugeMotion:
+            motion *= 20.0f;
+            break;
+        case CaseFamily::Tiny:  // a pixel is about 0.009 units wide per unit of depth
+            half = random.unit3() * (1e-5f + 2e-3f * random.unit()) * depth;
+            break;
+        case CaseFamily::Huge:
+            half = random.unit3() * (2.0f + 20.0f * random.unit());
+            break;
+        case CaseFamily::WideLens:
+            if (lens.radius > 0)
+                lens = {(0.3f + random.unit()) * depth, 0.3f + 20.0f * random.unit()};
+            break;
+    }
+}
+
+}  // namespace
+
+const char* caseFamilyName(CaseFamily family) {
+    return nameIn(kCaseFamilies, family);
+}
+
+bool parseCaseFamily(const std::string& name, CaseFamily& out) {
+    for (const auto& [family, text] : kCaseFamilies)
+        if (name == text) {
+            out = family;
+            return true;
+        }
+    return false;
+}
+
+std::string caseFamilyNames() {
+    std::string names;
+    for (const auto& entry : kCaseFamilies)
+        names += (names.empty() ? "" : ", ") + std::string(entry.name);
+    return names;
+}
+
+BoxCase makeBoxCase(std::uint64_t seed, CaseModel model, std::int64_t number, CaseFamily family) {
     CaseRandom random(seed, model, number);
     const Camera& camera = verifierCamera();
     BoxCase c;
@@ -103,11 +163,13 @@ BoxCase makeBoxCase(std::uint64_t seed, CaseModel model, std::int64_t number) {
     // A box around a point in view, of random size, moving by a random amount (sometimes along a
     // plane, sometimes straight at the camera, sometimes not at all, sometimes only because the
     // camera moves).
-    const float depth = 1.0f + 12.0f * random.unit();
-    const Vec3 centre((random.unit() - 0.5f) * depth, (random.unit() - 0.5f) * depth, -depth);
-    const Vec3 half = random.unit3() * (0.02f + 0.5f * random.unit());
+    float depth = 1.0f + 12.0f * random.unit();
+    const Vec2 across(random.unit() - 0.5f, random.unit() - 0.5f);
+    Vec3 half = random.unit3() * (0.02f + 0.5f * random.unit());
     Vec3 motion = (random.unit3() - 0.5f) * (3.0f * random.unit());
     const int kind = int(random.unit() * 4.0f);  // moving twice as often as still or depth-only
+    pushToFamily(family, random, depth, half, motion, in.lens);
+    const Vec3 centre(across.x * depth, across.y * depth, -depth);
     c.kind = kind == 0   ? BoxCaseKind::Still
              : kind == 1 ? BoxCaseKind::DepthOnly
                          : BoxCaseKind::Moving;

@@ -31,7 +31,24 @@ struct BoxCase {
     BoxCaseKind kind = BoxCaseKind::Moving;
 };
 
-BoxCase makeBoxCase(std::uint64_t seed, CaseModel model, std::int64_t number);
+// A family of box cases (verify-tiles --family): the random mix, or one hard case pushed to its
+// extreme: boxes at and across the near plane, near the far plane, moving tens of units, smaller
+// than a pixel, larger than the view, or seen through an aperture as wide as their distance.
+enum class CaseFamily : std::uint8_t {
+    Mixed,
+    NearPlane,
+    FarDepth,
+    HugeMotion,
+    Tiny,
+    Huge,
+    WideLens
+};
+const char* caseFamilyName(CaseFamily family);
+bool parseCaseFamily(const std::string& name, CaseFamily& out);
+std::string caseFamilyNames();  // "mixed, near-plane, ..."
+
+BoxCase makeBoxCase(std::uint64_t seed, CaseModel model, std::int64_t number,
+                    CaseFamily family = CaseFamily::Mixed);
 
 struct HierarchyCase {
     MovingMesh mesh;

@@ -335,7 +335,7 @@ void runBoxCases(const TileVerifierOptions& o, CaseModel model, std::int64_t beg
         if (model == CaseModel::Lens ? v->handlesLens() : v->handlesPinhole())
             variants.push_back(v.get());
     for (std::int64_t n = begin; n < end; ++n) {
-        const BoxCase c = makeBoxCase(o.seed, model, n);
+        const BoxCase c = makeBoxCase(o.seed, model, n, o.family);
         const bool witnessed = o.witnessEvery > 0 && n % o.witnessEvery == 0;
         const CaseTruth truth = boxTruth(c.input, witnessed, chunk.witnessOutsideTruth);
         chunk.witnessCases += witnessed;
@@ -425,7 +425,8 @@ TileVerifierResult verifyTileTests(const TileVerifierOptions& o) {
     return result;
 }
 
-bool replayTileCase(const std::string& name, std::uint64_t seed, std::ostream& out) {
+bool replayTileCase(const std::string& name, std::uint64_t seed, std::ostream& out,
+                    CaseFamily family) {
     CaseModel model;
     std::int64_t number;
     if (!parseCaseName(name, model, number)) return false;
@@ -450,7 +451,7 @@ bool replayTileCase(const std::string& name, std::uint64_t seed, std::ostream& o
         }
         return true;
     }
-    const BoxCase c = makeBoxCase(seed, model, number);
+    const BoxCase c = makeBoxCase(seed, model, number, family);
     printBoxCase(c, out);
     std::int64_t outside = 0;
     const CaseTruth truth = boxTruth(c.input, true, outside);

@@ -35,6 +35,7 @@
 #include "core/ray.h"
 #include "core/time_range.h"
 #include "rasterizer/common/tile_grid.h"
+#include "rasterizer/verifier/tile_test_cases.h"
 #include "rasterizer/verifier/tile_test_truth.h"
 #include "rasterizer/verifier/tile_test_variant.h"
 
@@ -70,8 +71,9 @@ struct TileVerifierOptions {
     std::int64_t cases = 2000;  // per model
     std::uint64_t seed = 1;
     int threads = 0;
-    int witnessEvery = 64;        // a sampled witness on every Nth case (0: none)
-    std::ostream* csv = nullptr;  // one row per case and variant, when set
+    int witnessEvery = 64;                  // a sampled witness on every Nth case (0: none)
+    CaseFamily family = CaseFamily::Mixed;  // of the box cases (hierarchy cases are the mix's)
+    std::ostream* csv = nullptr;            // one row per case and variant, when set
 };
 
 struct TileVerifierResult {
@@ -85,7 +87,8 @@ TileVerifierResult verifyTileTests(const TileVerifierOptions& options);
 
 // Everything about one case ("pinhole:17", "lens:3", "hierarchy:9"): inputs in hexadecimal
 // floats, the truth, and every variant's answer. False when the name is not a case.
-bool replayTileCase(const std::string& name, std::uint64_t seed, std::ostream& out);
+bool replayTileCase(const std::string& name, std::uint64_t seed, std::ostream& out,
+                    CaseFamily family = CaseFamily::Mixed);
 
 }  // namespace patchsim
 
