@@ -137,19 +137,11 @@ const char* caseFamilyName(CaseFamily family) {
 }
 
 bool parseCaseFamily(const std::string& name, CaseFamily& out) {
-    for (const auto& [family, text] : kCaseFamilies)
-        if (name == text) {
-            out = family;
-            return true;
-        }
-    return false;
+    return parseIn(kCaseFamilies, name, out);
 }
 
 std::string caseFamilyNames() {
-    std::string names;
-    for (const auto& entry : kCaseFamilies)
-        names += (names.empty() ? "" : ", ") + std::string(entry.name);
-    return names;
+    return namesIn(kCaseFamilies);
 }
 
 BoxCase makeBoxCase(std::uint64_t seed, CaseModel model, std::int64_t number, CaseFamily family) {
