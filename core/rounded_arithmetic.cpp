@@ -49,10 +49,6 @@ RoundedValue RoundedArithmetic::add(const RoundedValue& a, const RoundedValue& b
     return rounded(sum, a.error + b.error, residual == 0, a.inRange && b.inRange);
 }
 
-RoundedValue RoundedArithmetic::subtract(const RoundedValue& a, const RoundedValue& b) const {
-    return add(a, {-b.value, b.error, b.inRange});
-}
-
 RoundedValue RoundedArithmetic::multiply(const RoundedValue& a, const RoundedValue& b) const {
     const double product = a.value * b.value;
     const bool exact = std::fma(a.value, b.value, -product) == 0;

@@ -40,7 +40,6 @@ class RoundedArithmetic {
     // `x` entering the datapath, rounded to nearest; exact inputs carry no error.
     RoundedValue input(double x) const;
     RoundedValue add(const RoundedValue& a, const RoundedValue& b) const;
-    RoundedValue subtract(const RoundedValue& a, const RoundedValue& b) const;
     RoundedValue multiply(const RoundedValue& a, const RoundedValue& b) const;
 
     // The largest value of the format that is certainly no more than the exact one

@@ -28,18 +28,22 @@ struct Rounder {
     Rounding up() const { return bounded ? Rounding::Up : Rounding::Nearest; }
 };
 
+// The distance's value (naive) or its certain lower bound (bounded; minus infinity when it has
+// none).
+double distanceFor(const Rounder& r, const Plane& pl, const Vec3& p) {
+    const RoundedValue d = distanceIn(r.arithmetic, pl, p);
+    return r.bounded ? r.arithmetic.certainLowerBound(d) : d.value;
+}
+
 // The times the n-vertex may be inside the plane; false if never. As tile_frustum.cpp's
 // insideInterval, on the distances' lower bounds (bounded) or their values (naive).
 bool insideInterval(const Plane& pl, const LBBox& box, const Rounder& r, TimeRange& inside,
                     RasterWork& work) {
     work.planeTests += 2;
     const RoundedArithmetic& a = r.arithmetic;
-    const RoundedValue at0 = distanceIn(a, pl, nVertex(box.bounds0, pl.n));
-    const RoundedValue at1 = distanceIn(a, pl, nVertex(box.bounds1, pl.n));
+    const double d0 = distanceFor(r, pl, nVertex(box.bounds0, pl.n));
+    const double d1 = distanceFor(r, pl, nVertex(box.bounds1, pl.n));
     inside = TimeRange::shutter();
-    if (r.bounded && !(at0.inRange && at1.inRange)) return true;
-    const double d0 = r.bounded ? a.certainLowerBound(at0) : at0.value;
-    const double d1 = r.bounded ? a.certainLowerBound(at1) : at1.value;
     if (r.bounded && !(std::isfinite(d0) && std::isfinite(d1))) return true;  // beyond the range
     if (d0 > 0 && d1 > 0) return false;
     if (d0 > 0) {  // moves from outside to inside: the entry time, rounded down
@@ -54,13 +58,6 @@ bool insideInterval(const Plane& pl, const LBBox& box, const Rounder& r, TimeRan
         inside.upper = std::min(1.0f, timeAsFloat(guarded, r.up()));
     }
     return true;
-}
-
-// The distance's value (naive) or its certain lower bound (bounded; minus infinity when it has
-// none).
-double distanceFor(const Rounder& r, const Plane& pl, const Vec3& p) {
-    const RoundedValue d = distanceIn(r.arithmetic, pl, p);
-    return r.bounded ? r.arithmetic.certainLowerBound(d) : d.value;
 }
 
 bool outsideAtBothEnds(const Plane& pl, const LBBox& box, const Rounder& r, bool motion,
