@@ -59,6 +59,10 @@ struct RasterizerOptions {
     // The arithmetic format of the per-sample ray-box tests (issue 35), each slab distance
     // bounded by running error analysis (rasterizer/patent/moving_box_ray_rounded.h).
     NumberFormat rayBoxFormat = NumberFormat::fp32();
+    // The arithmetic format of the per-sample ray-triangle tests (issue 35), rounded to nearest:
+    // lossy but watertight (rasterizer/common/watertight_triangle_rounded.h). The patch method
+    // and the reference; a static frame's edge-function test is D3D11's fixed point already.
+    NumberFormat triangleFormat = NumberFormat::fp32();
 
     int trianglesPerGroup() const;
     // Throws InputError(source, "rasterizer.max_triangles_per_group" or

@@ -188,6 +188,50 @@ int verticesOutsideTheirLeaf(const PatchHierarchy& h, const MovingMesh& mesh) {
     return outside;
 }
 
+// A narrower ray-triangle test (rasterizer.triangle_format) grows every leaf by the test's reach
+// at its distance, and the interior nodes with them; fp32 changes nothing. The reach scales with
+// the format's unit: about 2^13 times fp32's for fp16, 2^3 more again for bf16.
+TEST(PatchHierarchy, ANarrowerTriangleTestGrowsEveryLeafByItsReach) {
+    const MovingMesh mesh = movingGrid(8, 5);
+    std::vector<std::uint32_t> all(128);
+    for (std::size_t k = 0; k < all.size(); ++k) all[k] = std::uint32_t(k);
+    PatchHierarchy exact;
+    exact.build(mesh, all.data(), all.size(), 2);
+    PatchHierarchy same = exact;
+    same.growForTriangleTest(NumberFormat::fp32(), 0.5f);
+    for (int i = 0; i < exact.nodeCount(); ++i) {
+        EXPECT_EQ(same.node(i).bounds0.lower, exact.node(i).bounds0.lower);
+        EXPECT_EQ(same.node(i).bounds1.upper, exact.node(i).bounds1.upper);
+    }
+    EXPECT_EQ(triangleTestReach(NumberFormat::fp32(), 10.0f), 0.0f);
+    EXPECT_EQ(triangleTestReach(NumberFormat::fp16(), 10.0f), 4 * 0x1p-7f);  // ulp(10) = 2^-7
+    EXPECT_EQ(triangleTestReach(NumberFormat::bf16(), 10.0f), 4 * 0x1p-4f);
+    EXPECT_EQ(triangleTestReach(NumberFormat::fixed(16, 8), 3.0f), 64 * 0x1p-8f * 4);
+    for (const NumberFormat format : {NumberFormat::fp16(), NumberFormat::fixed(16, 8)}) {
+        PatchHierarchy grown = exact;
+        grown.growForTriangleTest(format, 0.5f);
+        const int first = PatchHierarchy::firstLeaf(exact.depth());
+        for (int i = 0; i < exact.nodeCount(); ++i) {
+            const Box3 &in = exact.node(i).bounds0, &out = grown.node(i).bounds0;
+            ASSERT_TRUE(contains(out, in)) << formatName(format) << " node " << i;
+            if (i < first) {
+                EXPECT_TRUE(contains(out, grown.node(2 * i + 1).bounds0));
+                EXPECT_TRUE(contains(out, grown.node(2 * i + 2).bounds0));
+                continue;
+            }
+            const Vec3 far = glm::max(glm::abs(exact.node(i).bounds0.lower),
+                                      glm::abs(exact.node(i).bounds0.upper));
+            const Vec3 far1 = glm::max(glm::abs(exact.node(i).bounds1.lower),
+                                       glm::abs(exact.node(i).bounds1.upper));
+            const float distance = std::max(far.x + far.y + far.z, far1.x + far1.y + far1.z) + 0.5f;
+            const float reach = triangleTestReach(format, distance);
+            EXPECT_GT(reach, 0.0f);
+            EXPECT_EQ(out.lower.x, in.lower.x - reach) << formatName(format) << " leaf " << i;
+            EXPECT_EQ(out.upper.z, in.upper.z + reach) << formatName(format) << " leaf " << i;
+        }
+    }
+}
+
 // Issue 35: boxes stored in a narrower format, each bound rounded outward, hold the exact boxes
 // and are the format's values; the naive variant (round to nearest) cuts vertices off their
 // leaves, so samples that hit those corners would be lost.

@@ -104,4 +104,28 @@ Comparison expectStableAndExact(const SceneDesc& scene, const std::string& what)
     return c;
 }
 
+std::array<std::size_t, 3> expectTriangleFormatsExact(const SceneDesc& scene,
+                                                      const std::string& what) {
+    std::array<std::size_t, 3> hits{};
+    std::size_t k = 0;
+    for (const NumberFormat format :
+         {NumberFormat::fp16(), NumberFormat::bf16(), NumberFormat::fixed(16, 8)}) {
+        SceneDesc narrow = scene;
+        narrow.rasterizer.triangleFormat = format;
+        const std::string in = what + ", triangle tests in " + formatName(format);
+        RenderOptions options;
+        options.threads = 2;
+        options.method = &methodNamed("patch");
+        const RenderResult patch = renderScene(narrow, options);
+        options.method = &methodNamed("reference");
+        const RenderResult reference = renderScene(narrow, options);
+        expectFinite(patch, in);
+        const Comparison c = compare(patch, reference);
+        EXPECT_EQ(c.falseRejects, 0u) << in << ": samples the reference hits and it missed";
+        EXPECT_EQ(c.mismatches, 0u) << in << ": " << c.mismatches << " samples differ";
+        hits[k++] = c.hits;
+    }
+    return hits;
+}
+
 }  // namespace patchsim::test

@@ -1,6 +1,7 @@
 #pragma once
 // Sample-for-sample comparison of two renders, shared by the rasterizer and hard-case tests.
 
+#include <array>
 #include <cstddef>
 #include <string>
 
@@ -24,5 +25,13 @@ Comparison compare(const RenderResult& a, const RenderResult& b);
 // bf16 and fixed16.8 (rasterizer.node_format). Returns the patch render's comparison with the
 // reference.
 Comparison expectStableAndExact(const SceneDesc& scene, const std::string& what);
+
+// With the ray-triangle tests in fp16, bf16 and fixed16.8 (rasterizer.triangle_format), lossy,
+// in both methods: no NaN or Inf, and the patch method equals the reference testing in the same
+// format sample for sample (its culling grown by the test's reach keeps every sample the test
+// gives). Returns the hits in each format, in that order. The emulated reference is slow: for the
+// hard cases that name it.
+std::array<std::size_t, 3> expectTriangleFormatsExact(const SceneDesc& scene,
+                                                      const std::string& what);
 
 }  // namespace patchsim::test

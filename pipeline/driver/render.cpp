@@ -150,6 +150,7 @@ RenderResult renderScene(const SceneDesc& scene, const RenderOptions& options) {
         result.formats.rayBoxes = scene.rasterizer.rayBoxFormat;
     }
     result.formats.vertices = scene.rasterizer.vertexFormat;
+    if (method.roundsTriangleTests()) result.formats.triangles = scene.rasterizer.triangleFormat;
     const FrontEnd frontEnd(scene, workers);
     const FrontEndOutput fe = frontEndStages(frontEnd, options, workers, result);
 

@@ -88,6 +88,7 @@ class PatchMethod : public VisibilityMethod {
     const char* name() const override { return "patch"; }
     const char* after() const override { return "US 8,791,945: moving-box hierarchy per patch"; }
     bool exact() const override { return true; }
+    bool roundsTriangleTests() const override { return true; }
     bool countsPerPixel() const override { return true; }
     bool rasterizesPatches() const override { return true; }
     std::unique_ptr<MemoryTrace> makeMemoryTrace(const SceneDesc& scene) const override {

@@ -33,7 +33,8 @@ void ReferenceFrame::visibility() {
         mine.pool = int(band);
         renderReferenceRows(*in_.meshes, in_.camera(), in_.lens(), *in_.samples, in_.effects.motion,
                             FramePartition::bandBegin(int(band), height),
-                            FramePartition::bandBegin(int(band) + 1, height), mine, work);
+                            FramePartition::bandBegin(int(band) + 1, height), mine, work,
+                            in_.scene->rasterizer.triangleFormat);
         progress.advance();
     });
     progress.finish();
@@ -71,6 +72,7 @@ class ReferenceMethod : public VisibilityMethod {
     const char* name() const override { return "reference"; }
     const char* after() const override { return "every sample against every triangle: the oracle"; }
     bool exact() const override { return true; }
+    bool roundsTriangleTests() const override { return true; }
     std::unique_ptr<MethodFrame> start(const FrameInputs& in) const override {
         return std::make_unique<ReferenceFrame>(in);
     }

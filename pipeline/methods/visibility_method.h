@@ -110,6 +110,8 @@ class VisibilityMethod {
     virtual bool countsPerPixel() const { return false; }
     // Renders through the patch rasterizer, so the scene's rasterizer options change its work.
     virtual bool rasterizesPatches() const { return false; }
+    // Runs its ray-triangle tests in rasterizer.triangle_format (the others test in fp32).
+    virtual bool roundsTriangleTests() const { return false; }
     // Can split a frame between processes (FramePartition).
     virtual bool splitsFrames() const { return true; }
     // The trace its per-sample surface traffic is recorded in for the memory model

@@ -49,6 +49,7 @@ double operandScale(Op op, const SiteFormats& formats) {
 NumberFormat arithmeticFormat(Op op, const SiteFormats& formats) {
     if (op == Op::PlaneTests || op == Op::TimeIntervals) return formats.planes;
     if (op == Op::RayBoxTests) return formats.rayBoxes;
+    if (op == Op::RayTriangleTests) return formats.triangles;
     return NumberFormat::fp32();
 }
 
@@ -146,7 +147,10 @@ EnergyReport estimateEnergy(const std::vector<PatchOps>& patches, const Hardware
     for (int k = 0; k < kOpCount; ++k) {
         const Op op = Op(k);
         const NumberFormat arithmetic = arithmeticFormat(op, formats);
-        const int copies = arithmetic == NumberFormat::fp32() ? 1 : 2;  // value and bound
+        // A bounded site computes its value and its error bound; the triangle test rounds
+        // to nearest with no bound.
+        const bool bounded = arithmetic != NumberFormat::fp32() && op != Op::RayTriangleTests;
+        const int copies = bounded ? 2 : 1;
         report.stagePicojoules[std::size_t(stageOf(op))] +=
             total.ops[std::size_t(k)] * opPicojoules(op, table, double(hardware.scratchBudgetBytes),
                                                      operandScale(op, formats), arithmetic, copies);
@@ -222,6 +226,7 @@ nlohmann::ordered_json energyReportJson(const EnergyReport& report) {
     json["vertex_format"] = formatName(report.formats.vertices);
     json["plane_format"] = formatName(report.formats.planes);
     json["ray_box_format"] = formatName(report.formats.rayBoxes);
+    json["triangle_format"] = formatName(report.formats.triangles);
     json["table"] = energyTableJson(report.table);
     return json;
 }

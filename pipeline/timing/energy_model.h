@@ -96,10 +96,10 @@ double opPicojoules(Op op, const EnergyTable& table, double scratchBytes, double
                     const NumberFormat& arithmetic = NumberFormat::fp32(), int copies = 1);
 
 // The formats of issue 35's sites (docs/PRECISION.md): what the two storage sites store
-// (rasterizer.node_format, rasterizer.vertex_format) and what the two computing sites compute in
-// (rasterizer.plane_format, rasterizer.ray_box_format).
+// (rasterizer.node_format, rasterizer.vertex_format) and what the three computing sites compute
+// in (rasterizer.plane_format, rasterizer.ray_box_format, rasterizer.triangle_format).
 struct SiteFormats {
-    NumberFormat nodes, vertices, planes, rayBoxes;
+    NumberFormat nodes, vertices, planes, rayBoxes, triangles;
 };
 
 struct EnergyReport {
@@ -121,7 +121,7 @@ struct EnergyReport {
 // (ray_triangle_tests, triangle_setups, edge_setups) move that many bits a value instead of 32.
 // With a narrower plane format, plane_tests and time_intervals compute in it, twice over: the
 // value and its error bound (tile_frustum_rounded.h); ray_box_tests likewise in a narrower ray-box
-// format.
+// format; ray_triangle_tests once (rounded to nearest, no bound) in a narrower triangle format.
 EnergyReport estimateEnergy(const std::vector<PatchOps>& patches, const HardwareConfig& hardware,
                             const MemoryReport* memory, const SiteFormats& formats = {});
 

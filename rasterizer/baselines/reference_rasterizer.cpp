@@ -3,7 +3,7 @@
 #include "core/counters.h"
 #include "rasterizer/common/conservative_margins.h"
 #include "rasterizer/common/screen_triangle.h"
-#include "rasterizer/common/watertight_triangle.h"
+#include "rasterizer/common/watertight_triangle_rounded.h"
 #include "rasterizer/patent/raster_work.h"
 
 namespace patchsim {
@@ -21,11 +21,13 @@ namespace {
 
 // The hit of `ray` on triangle `tri` of `mesh` at the ray's time, if any.
 bool hitTriangle(const MovingMesh& mesh, std::uint32_t tri, const ShearedRay& sheared,
-                 const Ray& ray, float lambdaMax, VisibilityRecord& record) {
+                 const Ray& ray, float lambdaMax, const NumberFormat& format,
+                 VisibilityRecord& record) {
     const std::uint32_t* v = &mesh.indices[3 * std::size_t(tri)];
     TriangleHit hit;
-    if (!intersectTriangle(sheared, mesh.vertexAt(v[0], ray.time), mesh.vertexAt(v[1], ray.time),
-                           mesh.vertexAt(v[2], ray.time), ray.lambdaMin, lambdaMax, hit))
+    if (!intersectTriangleIn(format, sheared, mesh.vertexAt(v[0], ray.time),
+                             mesh.vertexAt(v[1], ray.time), mesh.vertexAt(v[2], ray.time),
+                             ray.lambdaMin, lambdaMax, hit))
         return false;
     record.depth = hit.lambda * ray.depthPerLambda;
     record.patch = mesh.patchId;
@@ -54,13 +56,14 @@ struct SampleTester {
     const ShearedRay& sheared;
     const Ray& ray;
     const ScreenTriangle* screen;  // null: rays only
+    const NumberFormat& triangleFormat;
     double subpixelX, subpixelY;
     int x, y;
 
     bool hit(const MovingMesh& mesh, std::uint32_t tri, std::size_t index, float lambdaMax,
              VisibilityRecord& record) const {
         if (screen == nullptr || screen[index].kind == ScreenTriangle::Kind::NeedsRay)
-            return hitTriangle(mesh, tri, sheared, ray, lambdaMax, record);
+            return hitTriangle(mesh, tri, sheared, ray, lambdaMax, triangleFormat, record);
         const ScreenTriangle& t = screen[index];
         if (t.kind == ScreenTriangle::Kind::Empty || x < t.pixelX0 || x >= t.pixelX1 ||
             y < t.pixelY0 || y >= t.pixelY1)
@@ -82,7 +85,8 @@ struct SampleTester {
 
 void renderReferenceRows(const std::vector<MovingMesh>& meshes, const Camera& camera,
                          const LensModel& lens, const SampleGenerator& samples, bool motion, int y0,
-                         int y1, const VisibilityTargets& targets, ReferenceWork& total) {
+                         int y1, const VisibilityTargets& targets, ReferenceWork& total,
+                         const NumberFormat& triangleFormat) {
     ReferenceWork work;
     RasterWork layerWork;
     VisibilityBuffer& buffer = *targets.opaque;
@@ -101,6 +105,7 @@ void renderReferenceRows(const std::vector<MovingMesh>& meshes, const Camera& ca
                 const SampleTester tester{sheared,
                                           ray,
                                           screen.empty() ? nullptr : screen.data(),
+                                          triangleFormat,
                                           sampleSubpixel(x, smp.pixelOffset.x),
                                           sampleSubpixel(y, smp.pixelOffset.y),
                                           x,

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "core/camera.h"
+#include "core/number_format.h"
 #include "core/ray.h"
 #include "core/samples.h"
 #include "core/work_counts.h"
@@ -42,8 +43,10 @@ const RatioCounter& referenceSampleTestEfficiency();
 // Rows [y0, y1) of the frame; every sample's record becomes the nearest opaque hit over all
 // meshes, and every transparent hit in front of it goes to the transparent layers. `motion`: the
 // geometry moves (without it and without a lens, samples are tested with edge functions).
+// `triangleFormat`: the ray-triangle tests' arithmetic (rasterizer.triangle_format).
 void renderReferenceRows(const std::vector<MovingMesh>& meshes, const Camera& camera,
                          const LensModel& lens, const SampleGenerator& samples, bool motion, int y0,
-                         int y1, const VisibilityTargets& targets, ReferenceWork& work);
+                         int y1, const VisibilityTargets& targets, ReferenceWork& work,
+                         const NumberFormat& triangleFormat = NumberFormat::fp32());
 
 }  // namespace patchsim

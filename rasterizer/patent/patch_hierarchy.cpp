@@ -200,6 +200,46 @@ LBBox storedIn(const LBBox& box, const NumberFormat& format, Rounding rounding) 
     return stored;
 }
 
+float triangleTestReach(const NumberFormat& format, float distance) {
+    if (format == NumberFormat::fp32()) return 0.0f;
+    const double unit = unitInLastPlace(distance, format);
+    if (format.kind == NumberFormat::Kind::Fixed) return float(64.0 * unit * (1.0 + distance));
+    return float(4.0 * unit);
+}
+
+namespace {
+
+// The largest |x| + |y| + |z| over a box's corners: a bound on their distance from the eye.
+float farthestCorner(const Box3& box) {
+    const Vec3 m = glm::max(glm::abs(box.lower), glm::abs(box.upper));
+    return m.x + m.y + m.z;
+}
+
+void grow(Box3& box, float by) {
+    box.lower -= Vec3(by);
+    box.upper += Vec3(by);
+}
+
+}  // namespace
+
+void PatchHierarchy::growForTriangleTest(const NumberFormat& triangleFormat, float lensRadius) {
+    if (triangleFormat == NumberFormat::fp32()) return;
+    const int first = firstLeaf(depth_);
+    for (int j = 0; j < leafCount(); ++j) {
+        LBBox& box = nodes_[std::size_t(first + j)];
+        if (box.bounds0.empty()) continue;
+        const float distance =
+            std::max(farthestCorner(box.bounds0), farthestCorner(box.bounds1)) + lensRadius;
+        const float reach = triangleTestReach(triangleFormat, distance);
+        grow(box.bounds0, reach);
+        grow(box.bounds1, reach);
+    }
+    for (int i = first - 1; i >= 0; --i) {
+        nodes_[std::size_t(i)] = nodes_[std::size_t(2 * i + 1)];
+        nodes_[std::size_t(i)].extend(nodes_[std::size_t(2 * i + 2)]);
+    }
+}
+
 void PatchHierarchy::storeNodesIn(const NumberFormat& format, Rounding rounding) {
     nodeFormat_ = format;
     if (format == NumberFormat::fp32()) return;

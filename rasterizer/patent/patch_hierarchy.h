@@ -39,6 +39,20 @@ struct LeafVertexTable {
     std::vector<std::uint8_t> corners;
 };
 
+// How far outside its exact triangle, in camera-space units, a ray-triangle test in `format`
+// may claim a hit whose vertices lie within `distance` of the ray's origin
+// (watertight_triangle_rounded.h). In a float format four units in the last place at that
+// distance (|x| + |y| + |z| of the box's farthest corner plus the lens): the coordinates are
+// rounded three times on their way to the sheared frame, each by at most half a unit, and an
+// edge function's rounding moves its edge by about as much again; the depth's roundings are
+// relative. In fixed point, whose unit is absolute, 64 units times 1 + distance: the shear
+// factors' rounding is multiplied by the coordinates, and sz = 1 / d[kz] of an oblique lens ray
+// keeps only a few significant bits. Margins, not a proof (a sliver's edge function is
+// ill-conditioned): each is twice the smallest power of two under which the hard-case suite
+// still gives the reference's samples (1 unit fails the 50-unit aperture case in bf16, 2 holds;
+// 16 fails it in fixed16.8, 32 holds).
+float triangleTestReach(const NumberFormat& format, float distance);
+
 class PatchHierarchy {
   public:
     // `triangles` are indices into `mesh` triangles (one group).
@@ -99,6 +113,13 @@ class PatchHierarchy {
     // zero slab weight at t = 0 or 1 is NaN). `Rounding::Nearest` is the naive
     // variant, kept for the test that shows it loses samples; it is no option of the render.
     void storeNodesIn(const NumberFormat& format, Rounding rounding = Rounding::Down);
+    // Grows every leaf's box (and so every node's) by the reach of a ray-triangle test in
+    // `triangleFormat` (rasterizer.triangle_format; nothing for fp32): triangleTestReach of the
+    // box's largest distance from the eye plus the lens. A rounded test claims hits up to that
+    // far outside its exact triangle and in front of its exact depth, so every culling step
+    // (bins, tile planes, time intervals, ray-box tests, z culling), which all derive from these
+    // boxes, keeps each sample the rounded test would give, as the reference gives it.
+    void growForTriangleTest(const NumberFormat& triangleFormat, float lensRadius);
     const NumberFormat& nodeFormat() const { return nodeFormat_; }
 
   private:

@@ -26,6 +26,7 @@ void PatchRasterizer::prepareGroup(const MovingMesh& mesh, const std::uint32_t* 
                                    std::size_t count, Group& group, RasterWork& work,
                                    const LeafVertexTable* leafTable) const {
     group.hierarchy.buildOrdered(mesh, triangles, count, options_.leafSize, leafTable);
+    group.hierarchy.growForTriangleTest(options_.triangleFormat, lens_.radius);
     group.hierarchy.storeNodesIn(options_.nodeFormat);
     ++work.groups;
     work.nodesBuilt += group.hierarchy.nodeCount();
@@ -75,6 +76,8 @@ void PatchRasterizer::rasterizeTile(const MovingMesh& mesh, const Group& group, 
     StreamPass pass{&mesh, &group.hierarchy, &traversal, branch, options_.zCulling};
     pass.screenVertices = group.screenVertices.data();
     if (options_.rayBoxFormat != NumberFormat::fp32()) pass.rayBoxArithmetic = &rayBoxArithmetic_;
+    if (options_.triangleFormat != NumberFormat::fp32())
+        pass.triangleFormat = &options_.triangleFormat;
     if (!mesh.opaque && targets.transparent) {
         pass.transparent = targets.transparent;
         pass.pool = targets.pool;

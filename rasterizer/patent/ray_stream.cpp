@@ -11,6 +11,7 @@
 #include <limits>
 
 #include "rasterizer/common/conservative_margins.h"
+#include "rasterizer/common/watertight_triangle_rounded.h"
 #include "rasterizer/common/z_culling.h"
 #include "rasterizer/patent/moving_box_ray_rounded.h"
 
@@ -85,8 +86,10 @@ using RayList = TileRays::RayList;
 // box test's data, packed by vector compression, so every vector of rays tested against a box is
 // full however few rays reach that box, and loads its data instead of gathering it. What the list
 // does not carry (the ray end, the triangle test's data) is loaded where the indices are
-// consecutive, else gathered.
-template <bool kEveryHit, bool kCount, bool kEmulatedBoxes>
+// consecutive, else gathered. kEmulated: a site computes in a narrower format
+// (StreamPass::rayBoxArithmetic, StreamPass::triangleFormat), lane by lane; a template parameter,
+// as a run-time branch in the box test cost the fp32 walk 2% of a render.
+template <bool kEveryHit, bool kCount, bool kEmulated>
 class Pass {
   public:
     Pass(TileRays& rays, const StreamPass& pass, RasterWork& work)
@@ -342,12 +345,12 @@ class Pass {
     }
 
     // Which active lanes meet `box`: the vector test (rays parallel to an axis take the scalar
-    // one), or with rasterizer.ray_box_format the emulated one (a template parameter: a branch
-    // here cost the fp32 walk 2% of a render).
+    // one), or with rasterizer.ray_box_format the emulated one.
     template <bool kStill, bool kAtOrigin>
     HWY_INLINE MF boxHits(const LBBox& box, VI index, MF active,
                           const SlabLanes<kStill, kAtOrigin>& s) const {
-        if constexpr (kEmulatedBoxes) return roundedLanes(box, index, active);
+        if constexpr (kEmulated)
+            if (pass_.rayBoxArithmetic != nullptr) return roundedLanes(box, index, active);
         const MF hit = hn::And(active, hitsBox(box, s));
         return rays_.anyParallel() ? parallelLanes(box, index, active, hit) : hit;
     }
@@ -508,6 +511,8 @@ class Pass {
     // The watertight test of watertight_triangle.h for every lane, in the same operations, on
     // the leaf's triangle `k` (its vertices sheared by shearVertices).
     HWY_INLINE TriangleHits intersect(const LaneRays& r, std::size_t k, MF active) const {
+        if constexpr (kEmulated)
+            if (pass_.triangleFormat != nullptr) return roundedHits(k, active);
         const ShearedVertex a = sheared(corners_[3 * k]), b = sheared(corners_[3 * k + 1]),
                             c = sheared(corners_[3 * k + 2]);
         const VF ax = a.x, ay = a.y, bx = b.x, by = b.y, cx = c.x, cy = c.y;
@@ -536,6 +541,51 @@ class Pass {
         const MF valid = hn::AndNot(hn::Eq(det, zero), hn::IsFinite(det));
         hits.hit = hn::And(inside, hn::And(valid, inRange));
         return hits;
+    }
+
+    // rasterizer.triangle_format: every active lane through the rounded scalar test on the
+    // triangle blended to its time, as the reference tests it (laneRays_ from shearLanes).
+    HWY_NOINLINE TriangleHits roundedHits(std::size_t k, MF active) const {
+        alignas(64) float lambda[kMaxLanes] = {}, b1[kMaxLanes] = {}, b2[kMaxLanes] = {};
+        const std::uint32_t a = vertices_[corners_[3 * k]], b = vertices_[corners_[3 * k + 1]],
+                            c = vertices_[corners_[3 * k + 2]];
+        std::uint16_t bits = 0;
+        for (std::uint16_t rest = bitsOf(d_, active); rest; rest &= std::uint16_t(rest - 1)) {
+            const int lane = std::countr_zero(rest);
+            const Ray& ray = laneRays_[lane];
+            TriangleHit hit;
+            if (!intersectTriangleRounded(laneShears_[lane], mesh_.vertexAt(a, ray.time),
+                                          mesh_.vertexAt(b, ray.time), mesh_.vertexAt(c, ray.time),
+                                          ray.lambdaMin, ray.lambdaMax, *pass_.triangleFormat, hit))
+                continue;
+            bits = std::uint16_t(bits | (1u << lane));
+            lambda[lane] = hit.lambda;
+            b1[lane] = hit.b1;
+            b2[lane] = hit.b2;
+        }
+        return {maskOf(d_, bits), hn::Load(d_, lambda), hn::Load(d_, b1), hn::Load(d_, b2)};
+    }
+
+    // The scalar rays of the active lanes, for roundedHits.
+    HWY_NOINLINE void shearLanes(VI index, MF active) {
+        alignas(64) std::int32_t lanes[kMaxLanes];
+        hn::Store(index, di_, lanes);
+        for (std::uint16_t rest = bitsOf(d_, active); rest; rest &= std::uint16_t(rest - 1)) {
+            const int lane = std::countr_zero(rest);
+            const int i = lanes[lane];
+            laneRays_[lane] = rays_.ray(i);
+            // The set-up's shear (tile_ray_setup.cpp), which the tests hold to shearRay of the
+            // reference's ray bit for bit; shearRay of ray(i) is not, its direction being
+            // scaled differently.
+            ShearedRay& shear = laneShears_[lane];
+            shear.origin = laneRays_[lane].origin;
+            shear.kx = rays_.axisX[i];
+            shear.ky = rays_.axisY[i];
+            shear.kz = rays_.axisZ[i];
+            shear.sx = rays_.shearX[i];
+            shear.sy = rays_.shearY[i];
+            shear.sz = rays_.shearZ[i];
+        }
     }
 
     // Lanes with an edge function exactly zero: all three again in double precision.
@@ -570,7 +620,10 @@ class Pass {
             triangleTests_ += std::int64_t(hn::CountTrue(d_, active) * count);
             if (kCount) addWork(SampleWork::TriangleTests, at.index, active, std::uint32_t(count));
             LaneRays r = fetchRays(at, hn::LoadU(d_, in.time + i));
-            shearVertices(r);
+            if (kEmulated && pass_.triangleFormat != nullptr)
+                shearLanes(at.index, active);
+            else
+                shearVertices(r);
             if (kEveryHit)
                 offerEveryHit(r, triangles, count, active, at.index);
             else
@@ -718,24 +771,27 @@ class Pass {
     const std::uint8_t* corners_ = nullptr;
     std::size_t vertexCount_ = 0;
     TimeRange times_[2 * kMaxLeavesPerHierarchy - 1];
+    // The current vector's rays, scalar, for the rounded triangle test (kEmulated only).
+    Ray laneRays_[kEmulated ? kMaxLanes : 1];
+    ShearedRay laneShears_[kEmulated ? kMaxLanes : 1];
 };
 
-template <bool kEmulatedBoxes>
+template <bool kEmulated>
 void trace(TileRays& rays, const StreamPass& pass, RasterWork& work) {
     const bool everyHit = pass.transparent != nullptr;
     const bool counting = rays.work[0] != nullptr;
     if (everyHit && counting)
-        Pass<true, true, kEmulatedBoxes>(rays, pass, work).run();
+        Pass<true, true, kEmulated>(rays, pass, work).run();
     else if (everyHit)
-        Pass<true, false, kEmulatedBoxes>(rays, pass, work).run();
+        Pass<true, false, kEmulated>(rays, pass, work).run();
     else if (counting)
-        Pass<false, true, kEmulatedBoxes>(rays, pass, work).run();
+        Pass<false, true, kEmulated>(rays, pass, work).run();
     else
-        Pass<false, false, kEmulatedBoxes>(rays, pass, work).run();
+        Pass<false, false, kEmulated>(rays, pass, work).run();
 }
 
 void TraceImpl(TileRays& rays, const StreamPass& pass, RasterWork& work) {
-    if (pass.rayBoxArithmetic)
+    if (pass.rayBoxArithmetic != nullptr || pass.triangleFormat != nullptr)
         trace<true>(rays, pass, work);
     else
         trace<false>(rays, pass, work);

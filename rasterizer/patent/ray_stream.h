@@ -55,6 +55,9 @@ struct StreamPass {
     // rasterizer.ray_box_format narrower than fp32: the ray-box tests in its arithmetic, bounded
     // (moving_box_ray_rounded.h), lane by lane; null for the fp32 vector test.
     const RoundedArithmetic* rayBoxArithmetic = nullptr;
+    // rasterizer.triangle_format narrower than fp32: the ray-triangle tests in it, rounded to
+    // nearest (watertight_triangle_rounded.h), lane by lane; null for the fp32 vector test.
+    const NumberFormat* triangleFormat = nullptr;
 };
 
 // Traces the pass's rays; nearer opaque hits are kept in `rays`, counts go to `work`.

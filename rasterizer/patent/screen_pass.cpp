@@ -13,6 +13,7 @@
 
 #include "rasterizer/common/conservative_margins.h"
 #include "rasterizer/common/screen_triangle.h"
+#include "rasterizer/common/watertight_triangle_rounded.h"
 #include "rasterizer/common/z_culling.h"
 
 HWY_BEFORE_NAMESPACE();
@@ -214,15 +215,17 @@ class ScreenPass {
     void withRays(std::uint32_t tri) {
         const std::uint32_t* v = &mesh_.indices[3 * std::size_t(tri)];
         const int n = rays_.count();
+        const NumberFormat& triangleFormat =
+            pass_.triangleFormat ? *pass_.triangleFormat : NumberFormat::fp32();
         work_.raysCast += n;
         work_.rayTriangleTests += n;
         if (rays_.trace != nullptr) rays_.traceReads(0, n, TimeRange::shutter());
         for (int i = 0; i < n; ++i) {
             const Ray ray = rays_.ray(i);
             TriangleHit hit;
-            if (intersectTriangle(shearRay(ray), mesh_.vertexAt(v[0], ray.time),
-                                  mesh_.vertexAt(v[1], ray.time), mesh_.vertexAt(v[2], ray.time),
-                                  rays_.lambdaMin(), rays_.rayEnd[i], hit))
+            if (intersectTriangleIn(triangleFormat, shearRay(ray), mesh_.vertexAt(v[0], ray.time),
+                                    mesh_.vertexAt(v[1], ray.time), mesh_.vertexAt(v[2], ray.time),
+                                    rays_.lambdaMin(), rays_.rayEnd[i], hit))
                 accept(i, tri, hit.lambda * rays_.depthPerLambda(), hit.b1, hit.b2);
         }
     }
