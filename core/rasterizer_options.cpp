@@ -52,6 +52,12 @@ void RasterizerOptions::validate(const std::string& source) const {
                          formatName(planeFormat) + " needs bounds_space " +
                              boundsSpaceName(BoundsSpace::Camera3D) + " (the format computes " +
                              "the 3D tile planes' tests), not " + boundsSpaceName(boundsSpace));
+    if (screenBoundsFormat != NumberFormat::fp32() && boundsSpace != BoundsSpace::Screen2D)
+        throw InputError(source, "rasterizer.screen_bounds_format",
+                         formatName(screenBoundsFormat) + " needs bounds_space " +
+                             boundsSpaceName(BoundsSpace::Screen2D) + " (the format stores " +
+                             "the 2D bounds space's projected nodes), not " +
+                             boundsSpaceName(boundsSpace));
 }
 
 void RasterizerOptions::validateTileSamples(int samplesPerPixel, const std::string& source) const {
@@ -171,6 +177,11 @@ const std::vector<RasterizerOptionField> kFields = {
      "its rounding error (conservative; bounds space 3d only): fp32, fp16, bf16 or fixedI.F",
      [](RasterizerOptions& o, const Json& j) { return numberFormat(j, o.planeFormat); },
      [](const RasterizerOptions& o) { return formatName(o.planeFormat); }},
+    {"screen_bounds_format", "--screen-bounds-format",
+     "Format of the 2D bounds space's projected nodes, rounded outward (conservative; fixed point "
+     "in pixels; bounds space 2d only): fp32, fp16, bf16 or fixedI.F",
+     [](RasterizerOptions& o, const Json& j) { return numberFormat(j, o.screenBoundsFormat); },
+     [](const RasterizerOptions& o) { return formatName(o.screenBoundsFormat); }},
     {"ray_box_format", "--ray-box-format",
      "Arithmetic format of the per-sample ray-box tests, each slab distance bounded by its "
      "rounding error (conservative): fp32, fp16, bf16 or fixedI.F",

@@ -56,6 +56,10 @@ struct RasterizerOptions {
     // arithmetic on the fp32 planes accepts (rasterizer/patent/tile_frustum_rounded.h): 3D
     // bounds only.
     NumberFormat planeFormat = NumberFormat::fp32();
+    // The format the 2D bounds space's projected nodes are stored in (issue 35), rounded outward
+    // (fixed point in pixels, as D3D11's 16.8 snap; rasterizer/patent/projected_bounds_rounded.h):
+    // bounds space 2d only.
+    NumberFormat screenBoundsFormat = NumberFormat::fp32();
     // The arithmetic format of the per-sample ray-box tests (issue 35), each slab distance
     // bounded by running error analysis (rasterizer/patent/moving_box_ray_rounded.h).
     NumberFormat rayBoxFormat = NumberFormat::fp32();
@@ -65,8 +69,8 @@ struct RasterizerOptions {
     NumberFormat triangleFormat = NumberFormat::fp32();
 
     int trianglesPerGroup() const;
-    // Throws InputError(source, "rasterizer.max_triangles_per_group" or
-    // "rasterizer.plane_format") when the fields disagree.
+    // Throws InputError(source, "rasterizer.max_triangles_per_group",
+    // "rasterizer.plane_format" or "rasterizer.screen_bounds_format") when the fields disagree.
     void validate(const std::string& source) const;
     // Throws InputError(source, "rasterizer.tile_size") when a tile holds more samples than a
     // worker keeps (kMaxTileSamples).

@@ -240,6 +240,51 @@ TEST(PatchRasterizer, AVertexFormatRoundsEveryMethodsGeometryAlike) {
     }
 }
 
+// The 2D bounds space's projected nodes stored in a narrower format, rounded outward
+// (rasterizer.screen_bounds_format, issue 35; fixed point in pixels): the reference's hits on
+// blurred, static and grid-timed frames, and the coarser the format, the more the 2D tile tests
+// let through. Rounded to nearest, the verifier's naive variant, the same boxes lose cases
+// (TileTestVerifier tests); any other bounds space is refused.
+TEST(PatchRasterizer, ScreenBoundsFormatsLoseNoHitAndOnlyLetMoreThrough) {
+    SceneDesc grid = smallScene(readSceneFile(test::sourcePath("scenes/motion.json")));
+    grid.film.sampler = SamplePattern::Grid;
+    const SceneDesc scenes[] = {
+        smallScene(readSceneFile(test::sourcePath("scenes/motion_defocus.json"))),
+        smallScene(readSceneFile(test::sourcePath("scenes/static.json"))), grid};
+    for (SceneDesc base : scenes) {
+        base.rasterizer.boundsSpace = BoundsSpace::Screen2D;
+        const RenderResult reference = renderWith(base, &methodNamed("reference"));
+        const RenderResult fp32 = renderWith(base, &methodNamed("patch"));
+        double previous = totalOps(fp32, Op::RayBoxTests);
+        for (const char* format : {"fp16", "bf16", "fixed16.8", "fixed16.2"}) {
+            SceneDesc scene = base;
+            ASSERT_TRUE(parseNumberFormat(format, scene.rasterizer.screenBoundsFormat));
+            const RenderResult patch = renderWith(scene, &methodNamed("patch"), 2);
+            const Comparison c = compare(patch, reference);
+            EXPECT_GT(c.hits, 0u);
+            EXPECT_EQ(c.mismatches, 0u) << base.path << " screen bounds in " << format;
+            EXPECT_EQ(formatName(patch.formats.screenBounds), format);
+            if (std::string(format) == "bf16" || std::string(format) == "fixed16.2") {
+                EXPECT_GE(totalOps(patch, Op::RayBoxTests), previous) << base.path << " " << format;
+            }
+            // A static frame tests its samples with edge functions, not rays.
+            if (std::string(format) == "fixed16.2" && totalOps(fp32, Op::RayBoxTests) > 0) {
+                EXPECT_GT(totalOps(patch, Op::RayBoxTests), totalOps(fp32, Op::RayBoxTests))
+                    << base.path << ": quarter-pixel steps let nothing more through";
+            }
+            previous = totalOps(patch, Op::RayBoxTests);
+        }
+    }
+    SceneDesc solid = scenes[0];
+    solid.rasterizer.screenBoundsFormat = NumberFormat::fp16();
+    try {
+        renderWith(solid, &methodNamed("patch"));
+        ADD_FAILURE() << "a screen bounds format with 3D bounds was accepted";
+    } catch (const InputError& e) {
+        EXPECT_EQ(e.field(), "rasterizer.screen_bounds_format");
+    }
+}
+
 // The ray-triangle tests in a narrower format (rasterizer.triangle_format, issue 35): the patch
 // method, the reference and the exact bounding methods test alike, so they still agree sample for
 // sample; the image moves away from fp32's, further the fewer bits; the render reports the

@@ -89,13 +89,18 @@ Comparison expectStableAndExact(const SceneDesc& scene, const std::string& what)
         SceneDesc narrow = scene;
         narrow.rasterizer.nodeFormat = format;
         const bool planes = scene.rasterizer.boundsSpace == BoundsSpace::Camera3D;
+        const bool screen = scene.rasterizer.boundsSpace == BoundsSpace::Screen2D;
         if (planes) narrow.rasterizer.planeFormat = format;
+        if (screen) narrow.rasterizer.screenBoundsFormat = format;
         RenderOptions options;
         options.method = &methodNamed("patch");
         options.threads = 2;
         const RenderResult r = renderScene(narrow, options);
-        const std::string in =
-            what + ", nodes" + (planes ? " and planes" : "") + " in " + formatName(format);
+        const std::string in = what + ", nodes" +
+                               (planes   ? " and planes"
+                                : screen ? " and screen bounds"
+                                         : "") +
+                               " in " + formatName(format);
         expectFinite(r, in);
         const Comparison f = compare(r, reference);
         EXPECT_EQ(f.falseRejects, 0u) << in << ": samples the reference hits and it missed";

@@ -147,6 +147,7 @@ RenderResult renderScene(const SceneDesc& scene, const RenderOptions& options) {
     if (method.rasterizesPatches()) {
         result.formats.nodes = scene.rasterizer.nodeFormat;
         result.formats.planes = scene.rasterizer.planeFormat;
+        result.formats.screenBounds = scene.rasterizer.screenBoundsFormat;
         result.formats.rayBoxes = scene.rasterizer.rayBoxFormat;
     }
     result.formats.vertices = scene.rasterizer.vertexFormat;

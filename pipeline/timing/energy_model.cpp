@@ -31,8 +31,11 @@ constexpr double kEntryMin = 1e-12, kEntryMax = 1e9;  // picojoules, or the scal
 // The share of 32 bits a value of `op`'s operands takes in its storage site's format.
 double operandScale(Op op, const SiteFormats& formats) {
     switch (op) {
+        case Op::PlaneTests:  // a 2D bounds space's tile tests read its stored screen boxes
+            if (formats.screenBounds != NumberFormat::fp32())
+                return storageBits(formats.screenBounds) / 32.0;
+            return storageBits(formats.nodes) / 32.0;
         case Op::NodesBuilt:
-        case Op::PlaneTests:
         case Op::RayBoxTests:
             return storageBits(formats.nodes) / 32.0;
         case Op::RayTriangleTests:
@@ -223,6 +226,7 @@ nlohmann::ordered_json energyReportJson(const EnergyReport& report) {
             ? report.stagePicojoules[std::size_t(Stage::RS)] / 1e3 / report.triangles
             : 0.0;
     json["node_format"] = formatName(report.formats.nodes);
+    json["screen_bounds_format"] = formatName(report.formats.screenBounds);
     json["vertex_format"] = formatName(report.formats.vertices);
     json["plane_format"] = formatName(report.formats.planes);
     json["ray_box_format"] = formatName(report.formats.rayBoxes);

@@ -95,11 +95,12 @@ bool isProgrammable(Stage s);  // VS, HS, DS and PS run shaders
 double opPicojoules(Op op, const EnergyTable& table, double scratchBytes, double operandScale = 1,
                     const NumberFormat& arithmetic = NumberFormat::fp32(), int copies = 1);
 
-// The formats of issue 35's sites (docs/PRECISION.md): what the two storage sites store
-// (rasterizer.node_format, rasterizer.vertex_format) and what the three computing sites compute
-// in (rasterizer.plane_format, rasterizer.ray_box_format, rasterizer.triangle_format).
+// The formats of issue 35's sites (docs/PRECISION.md): what the three storage sites store
+// (rasterizer.node_format, rasterizer.screen_bounds_format, rasterizer.vertex_format) and what
+// the three computing sites compute in (rasterizer.plane_format, rasterizer.ray_box_format,
+// rasterizer.triangle_format).
 struct SiteFormats {
-    NumberFormat nodes, vertices, planes, rayBoxes, triangles;
+    NumberFormat nodes, screenBounds, vertices, planes, rayBoxes, triangles;
 };
 
 struct EnergyReport {

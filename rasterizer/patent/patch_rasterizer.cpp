@@ -33,7 +33,8 @@ void PatchRasterizer::prepareGroup(const MovingMesh& mesh, const std::uint32_t* 
     const auto bytes = std::int64_t(group.hierarchy.bytes());
     work.hierarchyBytes += bytes;
     work.peakHierarchyBytes = std::max(work.peakHierarchyBytes, bytes);
-    group.nodes.build(group.hierarchy, options_.boundsSpace, camera_, lens_, work);
+    group.nodes.build(group.hierarchy, options_.boundsSpace, camera_, lens_, work,
+                      options_.screenBoundsFormat);
     // In 2D the nodes are already projected: the bounds are their rectangles' union.
     const ScreenBounds bounds =
         options_.boundsSpace == BoundsSpace::Screen2D

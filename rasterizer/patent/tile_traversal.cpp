@@ -11,6 +11,7 @@
 #include <bit>
 
 #include "rasterizer/common/conservative_margins.h"
+#include "rasterizer/patent/projected_bounds_rounded.h"
 #include "rasterizer/patent/tile_frustum_rounded.h"
 
 HWY_BEFORE_NAMESPACE();
@@ -486,7 +487,7 @@ HWY_EXPORT(TraverseImpl);
 HWY_EXPORT(TraverseFrustumImpl);
 
 void SpaceNodes::build(const PatchHierarchy& h, BoundsSpace s, const Camera& camera,
-                       const LensModel& lens, RasterWork& work) {
+                       const LensModel& lens, RasterWork& work, const NumberFormat& screenFormat) {
     space = s;
     homogeneous.clear();
     screen.clear();
@@ -495,7 +496,8 @@ void SpaceNodes::build(const PatchHierarchy& h, BoundsSpace s, const Camera& cam
         if (s == BoundsSpace::Homogeneous2D)
             homogeneous.push_back(toHomogeneous(h.node(i)));
         else
-            screen.push_back(projectMovingBox(h.node(i), camera, lens));
+            screen.push_back(storedIn(projectMovingBox(h.node(i), camera, lens), screenFormat,
+                                      /*outward=*/true, camera));
     }
     work.nodesConverted += h.nodeCount();
 }

@@ -41,9 +41,11 @@ struct SpaceNodes {
     BoundsSpace space = BoundsSpace::Camera3D;
     std::vector<LBBox> homogeneous;       // 2DH, per node
     std::vector<ScreenMovingBox> screen;  // 2D, per node
-    // Converts every node (counted in `work.nodesConverted`).
+    // Converts every node (counted in `work.nodesConverted`); the 2D nodes are stored in
+    // `screenFormat`, rounded outward (rasterizer.screen_bounds_format).
     void build(const PatchHierarchy& hierarchy, BoundsSpace space, const Camera& camera,
-               const LensModel& lens, RasterWork& work);
+               const LensModel& lens, RasterWork& work,
+               const NumberFormat& screenFormat = NumberFormat::fp32());
 };
 
 // The tile as the test of each bounds space sees it.

@@ -8,6 +8,7 @@
 #include "core/number_format.h"
 #include "rasterizer/patent/patch_hierarchy.h"
 #include "rasterizer/patent/projected_bounds.h"
+#include "rasterizer/patent/projected_bounds_rounded.h"
 #include "rasterizer/patent/tile_frustum.h"
 #include "rasterizer/patent/tile_frustum_rounded.h"
 #include "rasterizer/verifier/tile_test_variant.h"
@@ -57,13 +58,10 @@ class PatentTest : public TileTestVariant {
     bool refine_;
 };
 
-// The 2D screen-space test with the moving box's screen bounds stored in a smaller float format
-// (issue 35), rounded outward: lower corners down, upper corners up, the depth ratios' range
-// widened and the near depths brought nearer. The stored box then holds the fp32 box at every
-// blend of its two ends, and the test is monotone in the box, so whatever the fp32 test accepts
-// it accepts too: it cannot reject falsely, only accept more.
-// Rounded to nearest instead (`outward` false), the naive variant, it can shrink the box and
-// reject falsely: kept for the tests to show what the outward rounding prevents.
+// The 2D screen-space test with the moving box's screen bounds stored in `format`
+// (projected_bounds_rounded.h, the render's rasterizer.screen_bounds_format): outward, it cannot
+// reject falsely, only accept more; rounded to nearest (`outward` false), the naive variant, it
+// can shrink the box and reject falsely.
 class ReducedScreenTest : public TileTestVariant {
   public:
     ReducedScreenTest(NumberFormat format, bool outward) : format_(format), outward_(outward) {}
@@ -74,21 +72,8 @@ class ReducedScreenTest : public TileTestVariant {
         RasterWork work;
         TileTestOutput out;
         const ScreenTile t = makeScreenTile(*in.camera, in.tile, in.camera->farPlane());
-        ScreenMovingBox b = projectMovingBox(in.box, *in.camera, in.lens);
-        const Rounding down = outward_ ? Rounding::Down : Rounding::Nearest;
-        const Rounding up = outward_ ? Rounding::Up : Rounding::Nearest;
-        for (Vec2* lower : {&b.lower0, &b.lower1})
-            for (int axis = 0; axis < 2; ++axis)
-                (*lower)[axis] = storedOnPlane((*lower)[axis], axis, down, *in.camera);
-        for (Vec2* upper : {&b.upper0, &b.upper1})
-            for (int axis = 0; axis < 2; ++axis)
-                (*upper)[axis] = storedOnPlane((*upper)[axis], axis, up, *in.camera);
-        if (format_.kind != NumberFormat::Kind::Fixed) {  // depths stay float in fixed point
-            b.ratioMin = roundTo(b.ratioMin, format_, down);
-            b.ratioMax = roundTo(b.ratioMax, format_, up);
-            b.nearDepth0 = roundTo(b.nearDepth0, format_, down);
-            b.nearDepth1 = roundTo(b.nearDepth1, format_, down);
-        }
+        const ScreenMovingBox b =
+            storedIn(projectMovingBox(in.box, *in.camera, in.lens), format_, outward_, *in.camera);
         out.accept = screenTileTimes(t, b, out.times, work);
         return out;
     }
@@ -96,38 +81,6 @@ class ReducedScreenTest : public TileTestVariant {
     bool lossy() const override { return !outward_; }
 
   private:
-    // A z = -1 plane coordinate (axis 0: x, 1: y) as stored: a float format rounds it as it
-    // is; fixed point stores pixels, as D3D11's 16.8 snap does (x from the left, y from the top,
-    // so y's direction flips). The way there and back is in double, each step widened by its
-    // own error bound in the rounding's direction, and the float result is rounded that way
-    // too, so outward stays outward. A pixel beyond the format's range keeps its float value,
-    // as a rasterizer clips at its guard band.
-    float storedOnPlane(float v, int axis, Rounding rounding, const Camera& camera) const {
-        if (format_.kind != NumberFormat::Kind::Fixed) return roundTo(v, format_, rounding);
-        const double half = 0.5 * (axis == 0 ? camera.width() : camera.height());
-        const double tangent = axis == 0 ? double(camera.tanHalfFovY()) * camera.aspect()
-                                         : double(camera.tanHalfFovY());
-        const double scale = (axis == 0 ? half : -half) / tangent;
-        const double toPlane = 1.0 / scale;
-        const double direction = rounding == Rounding::Down ? -1 : rounding == Rounding::Up ? 1 : 0;
-        const double inPixels = axis == 0 ? direction : -direction;
-        constexpr double kError = 0x1p-50;  // relative, more than a few double roundings
-        double pixel = double(v) * scale + half;
-        pixel += inPixels * kError * (std::abs(double(v) * scale) + half);
-        const double grid = std::ldexp(1.0, -format_.fractionBits);
-        const double limit = std::ldexp(1.0, format_.integerBits - 1);
-        if (!std::isfinite(pixel) || pixel < -limit || pixel >= limit) return v;
-        const double snapped = inPixels < 0   ? std::floor(pixel / grid) * grid
-                               : inPixels > 0 ? std::ceil(pixel / grid) * grid
-                                              : std::nearbyint(pixel / grid) * grid;
-        double back = (snapped - half) * toPlane;
-        back += direction * kError * std::abs(back);
-        float result = float(back);
-        if (direction < 0 && double(result) > back) result = std::nextafter(result, -INFINITY);
-        if (direction > 0 && double(result) < back) result = std::nextafter(result, INFINITY);
-        return result;
-    }
-
     NumberFormat format_;
     bool outward_;
 };
