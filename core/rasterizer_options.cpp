@@ -189,7 +189,8 @@ const std::vector<RasterizerOptionField> kFields = {
      [](const RasterizerOptions& o) { return formatName(o.rayBoxFormat); }},
     {"triangle_format", "--triangle-format",
      "Arithmetic format of the per-sample ray-triangle tests, rounded to nearest (lossy, "
-     "watertight; the patch method and the reference): fp32, fp16, bf16 or fixedI.F",
+     "watertight; the methods that rasterize patches, and the reference): fp32, fp16, bf16 or "
+     "fixedI.F",
      [](RasterizerOptions& o, const Json& j) { return numberFormat(j, o.triangleFormat); },
      [](const RasterizerOptions& o) { return formatName(o.triangleFormat); }},
 };

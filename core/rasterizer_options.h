@@ -64,8 +64,9 @@ struct RasterizerOptions {
     // bounded by running error analysis (rasterizer/patent/moving_box_ray_rounded.h).
     NumberFormat rayBoxFormat = NumberFormat::fp32();
     // The arithmetic format of the per-sample ray-triangle tests (issue 35), rounded to nearest:
-    // lossy but watertight (rasterizer/common/watertight_triangle_rounded.h). The patch method
-    // and the reference; a static frame's edge-function test is D3D11's fixed point already.
+    // lossy but watertight (rasterizer/common/watertight_triangle_rounded.h). The methods that
+    // rasterize patches, and the reference; a static frame's edge-function test is D3D11's fixed
+    // point already.
     NumberFormat triangleFormat = NumberFormat::fp32();
 
     int trianglesPerGroup() const;

@@ -32,7 +32,6 @@ class BoundingFrame : public MethodFrame {
         if (bounding_ == Bounding::Interval)
             intervalTimeStrataCounter().raiseTo(options.timeStrata);
         options.bound = in_.options->triangleBound;
-        options.triangleFormat = in_.scene->rasterizer.triangleFormat;
         options.threads = in_.workers;
         options.partition = in_.partition;
         options.memoryTrace = in_.memoryTrace;
@@ -79,7 +78,6 @@ class BoundingMethod : public VisibilityMethod {
     const char* name() const override { return name_; }
     const char* after() const override { return after_; }
     bool exact() const override { return exact_; }
-    bool roundsTriangleTests() const override { return true; }
     // The interleaved method is an accumulation buffer: its samples repeat in every pixel.
     SampleGenerator makeSamples(const FilmDesc& film, const Effects& effects) const override {
         return SampleGenerator(

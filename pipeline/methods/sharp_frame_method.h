@@ -11,6 +11,8 @@ class SharpFrameMethod : public VisibilityMethod {
     bool exact() const override { return false; }
     bool countsPerPixel() const override { return true; }
     bool rasterizesPatches() const override { return true; }
+    // The patch rasterizer's ray tests (hybrid's reveal rays stay fp32).
+    bool roundsTriangleTests() const override { return true; }
     // Every sample at `sharpTime()`, through a pinhole.
     SampleGenerator makeSamples(const FilmDesc& film, const Effects& effects) const override;
     void check(const SceneDesc& scene, const RenderOptions& options, int workers) const override;

@@ -110,7 +110,10 @@ class VisibilityMethod {
     virtual bool countsPerPixel() const { return false; }
     // Renders through the patch rasterizer, so the scene's rasterizer options change its work.
     virtual bool rasterizesPatches() const { return false; }
-    // Runs its ray-triangle tests in rasterizer.triangle_format (the others test in fp32).
+    // Runs its ray-triangle tests in rasterizer.triangle_format: the methods that rasterize
+    // through the patch rasterizer, whose culling grows by the test's reach, and the reference,
+    // its oracle. The bounding baselines test in fp32: their culling is not grown, so a narrower
+    // test there would lose samples.
     virtual bool roundsTriangleTests() const { return false; }
     // Can split a frame between processes (FramePartition).
     virtual bool splitsFrames() const { return true; }

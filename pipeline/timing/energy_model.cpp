@@ -47,8 +47,8 @@ double operandScale(Op op, const SiteFormats& formats) {
     }
 }
 
-// The format `op`'s arithmetic runs in: a computing site's (plane_format, ray_box_format), else
-// fp32.
+// The format `op`'s arithmetic runs in: a computing site's (plane_format, ray_box_format,
+// triangle_format), else fp32.
 NumberFormat arithmeticFormat(Op op, const SiteFormats& formats) {
     if (op == Op::PlaneTests || op == Op::TimeIntervals) return formats.planes;
     if (op == Op::RayBoxTests) return formats.rayBoxes;

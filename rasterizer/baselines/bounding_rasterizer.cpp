@@ -11,7 +11,7 @@
 #include "rasterizer/baselines/band_samples.h"
 #include "rasterizer/common/conservative_margins.h"
 #include "rasterizer/common/screen_hull.h"
-#include "rasterizer/common/watertight_triangle_rounded.h"
+#include "rasterizer/common/watertight_triangle.h"
 #include "rasterizer/common/z_culling.h"
 
 namespace patchsim {
@@ -342,16 +342,16 @@ class BandRasterizer {
         const float lambdaMax =
             rayEndAtDepth(t_.opaque->depthBound(t_.opaque->records()[bandOffset_ + i]),
                           samples_.depthPerLambda(i));
-        if (samples_.alongZ(i) && o_.triangleFormat == NumberFormat::fp32()) {
+        if (samples_.alongZ(i)) {
             candidates_.add(std::int32_t(i), lambdaMax);
             return;
         }
         const std::uint32_t* v = &mesh.indices[3 * std::size_t(tri)];
         const float time = samples_.time(i);
         TriangleHit hit;
-        if (intersectTriangleIn(o_.triangleFormat, samples_.shearedRay(i),
-                                mesh.vertexAt(v[0], time), mesh.vertexAt(v[1], time),
-                                mesh.vertexAt(v[2], time), samples_.lambdaMin(i), lambdaMax, hit))
+        if (intersectTriangle(samples_.shearedRay(i), mesh.vertexAt(v[0], time),
+                              mesh.vertexAt(v[1], time), mesh.vertexAt(v[2], time),
+                              samples_.lambdaMin(i), lambdaMax, hit))
             record(mesh, tri, i, hit.lambda, hit.b1, hit.b2, work);
     }
 

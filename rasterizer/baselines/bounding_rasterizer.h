@@ -37,7 +37,6 @@
 
 #include "core/camera.h"
 #include "core/memory_trace.h"
-#include "core/number_format.h"
 #include "core/ray.h"
 #include "core/samples.h"
 #include "core/work_counts.h"
@@ -122,9 +121,6 @@ struct BoundingOptions {
     Bounding method = Bounding::TriangleBBox;
     int timeStrata = 1;                         // interval: K (intervalTimeStrata)
     TriangleBound bound = TriangleBound::Hull;  // triangle-bbox
-    // rasterizer.triangle_format: narrower than fp32, every sample takes the rounded scalar test
-    // (watertight_triangle_rounded.h) instead of the vector one.
-    NumberFormat triangleFormat = NumberFormat::fp32();
     int threads = 0;
     // The bands of rows this process rasterizes.
     FramePartition partition;

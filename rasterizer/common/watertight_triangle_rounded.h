@@ -26,18 +26,24 @@
 //
 // Why still watertight
 // --------------------
-// Woop's argument survives the narrowing. Two triangles that share an edge shear its two
-// vertices identically (one ray, the same rounded inputs and operations), so both evaluate that
-// edge's function from the same two rounded products, in opposite order; rounding to nearest is
-// symmetric (round(-x) = -round(x), in every float and fixed-point format), so one gets exactly
-// the other's negative, or, where fixed point saturates, a value of the opposite sign. A sample
-// therefore lies inside at most one of them and outside at most one, never outside both. An edge
-// function that rounds to zero is recomputed from the rounded coordinates in double (nearly
-// exact, as fp32's fallback is) and kept at float's precision, so the sign that breaks the tie is
-// the true sign of the shared coordinates, again the same for both.
+// Woop's argument survives the narrowing, within the format's range. Two triangles that share an
+// edge shear its two vertices identically (one ray, the same rounded inputs and operations), so
+// both evaluate that edge's function from the same two products, in opposite order. In a float
+// format the products and their difference round to nearest, which is symmetric (round(-x) =
+// -round(x)), so one gets exactly the other's negative; in fixed point the edge function is not
+// rounded at all (full width), so the same holds exactly. A sample therefore lies inside at most
+// one of them and outside at most one, never outside both. An edge function that is zero is
+// recomputed from the rounded coordinates in double (nearly exact, as fp32's fallback is) and
+// kept at float's precision, so the sign that breaks the tie is the true sign of the shared
+// coordinates, again the same for both.
 //
-// A depth or weight beyond the format's range is infinite (float formats; the hit is refused, as
-// fp32 refuses a non-finite determinant) or saturated (fixed point).
+// Beyond the range there is a crack: a float format's product that overflows (fp16: sheared
+// coordinates beyond about 256 units) makes an edge function infinite or NaN, the determinant
+// is not finite, and both triangles refuse the hit, as fp32 refuses a non-finite determinant
+// (HardCases.CoordinatesNear1e5And1eMinus5: fp16 loses the whole surface at 5e5 units). Fixed
+// point saturates its coordinates instead. Full width is exact in the double that holds it for
+// edge functions of formats up to 26 bits (fixed16.8 and narrower); the depth numerator (about 3p
+// bits) is not exact beyond 17 bits, which only moves the rounding of the quotient it feeds.
 
 #include "core/number_format.h"
 #include "rasterizer/common/watertight_triangle.h"

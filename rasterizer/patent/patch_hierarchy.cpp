@@ -222,12 +222,13 @@ void grow(Box3& box, float by) {
 
 }  // namespace
 
-void PatchHierarchy::growForTriangleTest(const NumberFormat& triangleFormat, float lensRadius) {
-    if (triangleFormat == NumberFormat::fp32()) return;
+void PatchHierarchy::growForTriangleTest(const NumberFormat& triangleFormat, float lensRadius,
+                                         std::uint64_t leaves) {
+    if (triangleFormat == NumberFormat::fp32() || leaves == 0) return;
     const int first = firstLeaf(depth_);
     for (int j = 0; j < leafCount(); ++j) {
         LBBox& box = nodes_[std::size_t(first + j)];
-        if (box.bounds0.empty()) continue;
+        if (box.bounds0.empty() || !(leaves >> j & 1)) continue;
         const float distance =
             std::max(farthestCorner(box.bounds0), farthestCorner(box.bounds1)) + lensRadius;
         const float reach = triangleTestReach(triangleFormat, distance);

@@ -119,7 +119,9 @@ class PatchHierarchy {
     // far outside its exact triangle and in front of its exact depth, so every culling step
     // (bins, tile planes, time intervals, ray-box tests, z culling), which all derive from these
     // boxes, keeps each sample the rounded test would give, as the reference gives it.
-    void growForTriangleTest(const NumberFormat& triangleFormat, float lensRadius);
+    // Only the leaves set in `leaves` (bit j: leaf j) grow.
+    void growForTriangleTest(const NumberFormat& triangleFormat, float lensRadius,
+                             std::uint64_t leaves = ~std::uint64_t(0));
     const NumberFormat& nodeFormat() const { return nodeFormat_; }
 
   private:

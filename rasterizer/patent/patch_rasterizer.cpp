@@ -26,7 +26,9 @@ void PatchRasterizer::prepareGroup(const MovingMesh& mesh, const std::uint32_t* 
                                    std::size_t count, Group& group, RasterWork& work,
                                    const LeafVertexTable* leafTable) const {
     group.hierarchy.buildOrdered(mesh, triangles, count, options_.leafSize, leafTable);
-    group.hierarchy.growForTriangleTest(options_.triangleFormat, lens_.radius);
+    if (options_.triangleFormat != NumberFormat::fp32())
+        group.hierarchy.growForTriangleTest(options_.triangleFormat, lens_.radius,
+                                            leavesTestedWithRays(mesh, group.hierarchy));
     group.hierarchy.storeNodesIn(options_.nodeFormat);
     ++work.groups;
     work.nodesBuilt += group.hierarchy.nodeCount();
@@ -43,6 +45,28 @@ void PatchRasterizer::prepareGroup(const MovingMesh& mesh, const std::uint32_t* 
     work.fullScreenBounds += bounds.fullScreen;
     group.tiles = tilesCovering(bounds, grid_);
     if (effects_.screenPlaneSamples()) projectLeafVertices(mesh, group, work);
+}
+
+// The leaves whose triangles take the ray test (bit j: leaf j): every leaf, except in a static
+// frame, where only a triangle with no fixed-point screen form does (screen_triangle.h).
+std::uint64_t PatchRasterizer::leavesTestedWithRays(const MovingMesh& mesh,
+                                                    const PatchHierarchy& h) const {
+    if (!effects_.screenPlaneSamples()) return ~std::uint64_t(0);
+    std::uint64_t leaves = 0;
+    for (int leaf = 0; leaf < h.leafCount(); ++leaf) {
+        std::size_t count = 0;
+        const std::uint32_t* triangles = h.leafTriangles(leaf, count);
+        for (std::size_t k = 0; k < count; ++k) {
+            const std::uint32_t* v = &mesh.indices[3 * std::size_t(triangles[k])];
+            if (setupScreenTriangle(camera_, mesh.position0[v[0]], mesh.position0[v[1]],
+                                    mesh.position0[v[2]])
+                    .kind == ScreenTriangle::Kind::NeedsRay) {
+                leaves |= std::uint64_t(1) << leaf;
+                break;
+            }
+        }
+    }
+    return leaves;
 }
 
 // The viewport transform of a static frame, once per vertex of each leaf: every tile the leaf

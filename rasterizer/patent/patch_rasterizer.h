@@ -54,6 +54,7 @@ class PatchRasterizer {
                       Group& group, RasterWork& work,
                       const LeafVertexTable* leafTable = nullptr) const;
     void projectLeafVertices(const MovingMesh& mesh, Group& group, RasterWork& work) const;
+    std::uint64_t leavesTestedWithRays(const MovingMesh& mesh, const PatchHierarchy& h) const;
     // `rays` holds the tile's rays and nearest hits (TileRays::load); transparent hits go to
     // `targets.transparent` from pool `targets.pool`.
     void rasterizeTile(const MovingMesh& mesh, const Group& group, int tileX, int tileY,

@@ -575,8 +575,7 @@ class Pass {
             const int i = lanes[lane];
             laneRays_[lane] = rays_.ray(i);
             // The set-up's shear (tile_ray_setup.cpp), which the tests hold to shearRay of the
-            // reference's ray bit for bit; shearRay of ray(i) is not, its direction being
-            // scaled differently.
+            // reference's ray bit for bit, as the vector test uses it.
             ShearedRay& shear = laneShears_[lane];
             shear.origin = laneRays_[lane].origin;
             shear.kx = rays_.axisX[i];
