@@ -109,12 +109,30 @@ Comparison expectStableAndExact(const SceneDesc& scene, const std::string& what)
     return c;
 }
 
-std::array<std::size_t, 3> expectTriangleFormatsExact(const SceneDesc& scene,
-                                                      const std::string& what) {
+std::array<std::size_t, 3> expectNarrowRayTestsExact(const SceneDesc& scene,
+                                                     const std::string& what) {
     std::array<std::size_t, 3> hits{};
     std::size_t k = 0;
-    for (const NumberFormat format :
-         {NumberFormat::fp16(), NumberFormat::bf16(), NumberFormat::fixed(16, 8)}) {
+    const NumberFormat formats[] = {NumberFormat::fp16(), NumberFormat::bf16(),
+                                    NumberFormat::fixed(16, 8)};
+    RenderOptions fp32Options;
+    fp32Options.threads = 2;
+    fp32Options.method = &methodNamed("reference");
+    const RenderResult fp32Reference = renderScene(scene, fp32Options);
+    for (const NumberFormat format : formats) {
+        SceneDesc boxes = scene;
+        boxes.rasterizer.rayBoxFormat = format;
+        const std::string in = what + ", ray-box tests in " + formatName(format);
+        RenderOptions options;
+        options.threads = 2;
+        options.method = &methodNamed("patch");
+        const RenderResult patch = renderScene(boxes, options);
+        expectFinite(patch, in);
+        const Comparison c = compare(patch, fp32Reference);
+        EXPECT_EQ(c.falseRejects, 0u) << in << ": samples the reference hits and it missed";
+        EXPECT_EQ(c.mismatches, 0u) << in << ": " << c.mismatches << " samples differ";
+    }
+    for (const NumberFormat format : formats) {
         SceneDesc narrow = scene;
         narrow.rasterizer.triangleFormat = format;
         const std::string in = what + ", triangle tests in " + formatName(format);

@@ -26,12 +26,13 @@ Comparison compare(const RenderResult& a, const RenderResult& b);
 // reference.
 Comparison expectStableAndExact(const SceneDesc& scene, const std::string& what);
 
-// With the ray-triangle tests in fp16, bf16 and fixed16.8 (rasterizer.triangle_format), lossy,
+// The per-sample ray tests in fp16, bf16 and fixed16.8, emulated (slow: for the hard cases that
+// name it). The ray-box tests (rasterizer.ray_box_format), bounded: the patch method equals the
+// fp32 reference sample for sample. The ray-triangle tests (rasterizer.triangle_format), lossy,
 // in both methods: no NaN or Inf, and the patch method equals the reference testing in the same
 // format sample for sample (its culling grown by the test's reach keeps every sample the test
-// gives). Returns the hits in each format, in that order. The emulated reference is slow: for the
-// hard cases that name it.
-std::array<std::size_t, 3> expectTriangleFormatsExact(const SceneDesc& scene,
-                                                      const std::string& what);
+// gives). Returns the hits with each triangle format, in that order.
+std::array<std::size_t, 3> expectNarrowRayTestsExact(const SceneDesc& scene,
+                                                     const std::string& what);
 
 }  // namespace patchsim::test

@@ -25,8 +25,8 @@
 namespace patchsim {
 namespace {
 
+using test::expectNarrowRayTestsExact;
 using test::expectStableAndExact;
-using test::expectTriangleFormatsExact;
 
 std::string torusCage() {
     return test::sourcePath("scenes/cages/catmark_torus.obj");
@@ -84,10 +84,10 @@ std::size_t hitsOf(const SceneDesc& scene, const std::string& what) {
     return expectStableAndExact(scene, what).hits;
 }
 
-// hitsOf, and the same samples with the ray-triangle tests in narrower formats, each of which
-// still finds the surface.
-std::size_t hitsInEveryTriangleFormat(const SceneDesc& scene, const std::string& what) {
-    for (std::size_t hits : expectTriangleFormatsExact(scene, what)) EXPECT_GT(hits, 0u) << what;
+// hitsOf, and the same samples with the ray-box and ray-triangle tests in narrower formats, each
+// of which still finds the surface.
+std::size_t hitsInEveryRayTestFormat(const SceneDesc& scene, const std::string& what) {
+    for (std::size_t hits : expectNarrowRayTestsExact(scene, what)) EXPECT_GT(hits, 0u) << what;
     return hitsOf(scene, what);
 }
 
@@ -97,7 +97,7 @@ TEST(HardCases, PatchCrossesTheCameraPlaneAndTheNearPlane) {
         scene.lens = {aperture, 4.0f};
         scene.objects[0].close.translate = {0, 0, 8};  // through z = 5 (the eye) and beyond
         CounterRegistry::instance().reset();
-        EXPECT_GT(hitsInEveryTriangleFormat(scene, "crossing"), 0u);
+        EXPECT_GT(hitsInEveryRayTestFormat(scene, "crossing"), 0u);
     }
     // Static and close to the eye, in the narrower triangle formats: a static frame grows only
     // the leaves whose triangles take the ray test, and here the edge-function test takes them
@@ -105,7 +105,7 @@ TEST(HardCases, PatchCrossesTheCameraPlaneAndTheNearPlane) {
     SceneDesc still = baseScene();
     still.objects[0].open.translate = still.objects[0].close.translate = {0, 0, 3.0f};
     still.objects[0].open.scale = still.objects[0].close.scale = Vec3(3.0f);
-    EXPECT_GT(hitsInEveryTriangleFormat(still, "static, close to the eye"), 0u);
+    EXPECT_GT(hitsInEveryRayTestFormat(still, "static, close to the eye"), 0u);
 }
 
 TEST(HardCases, MotionParallelToTilePlanesHasEqualPlaneDistances) {
@@ -127,7 +127,7 @@ TEST(HardCases, MotionAcrossTheWholeScreen) {
     SceneDesc scene = baseScene();
     scene.objects[0].open.translate = {-12, 0, 0};
     scene.objects[0].close.translate = {12, 0, 0};
-    EXPECT_GT(hitsInEveryTriangleFormat(scene, "whole-screen motion"), 0u);
+    EXPECT_GT(hitsInEveryRayTestFormat(scene, "whole-screen motion"), 0u);
 }
 
 TEST(HardCases, SubPixelTrianglesAtFactor64) {
@@ -145,7 +145,7 @@ TEST(HardCases, ZeroAreaAndSliverTrianglesFromCollapsedControlPoints) {
     scene.objects[0].open.rotateDegrees = scene.objects[0].close.rotateDegrees = {20, 10, 0};
     scene.objects[0].close.translate = {0.3f, 0.1f, 0};
     scene.lens = {0.05f, 5.0f};
-    EXPECT_GT(hitsInEveryTriangleFormat(scene, "collapsed control points"), 0u);
+    EXPECT_GT(hitsInEveryRayTestFormat(scene, "collapsed control points"), 0u);
 }
 
 TEST(HardCases, TilesOnTheScreenBorder) {
@@ -172,7 +172,7 @@ TEST(HardCases, SamplesExactlyOnTileAndPixelEdgesAndTimesExactlyZeroAndOne) {
         onEdge = onEdge || grid.sample(3, 3, s).pixelOffset == Vec2(0.0f);
     }
     EXPECT_TRUE(timeZero && timeOne && onEdge);
-    EXPECT_GT(hitsInEveryTriangleFormat(scene, "edges and end times"), 0u);
+    EXPECT_GT(hitsInEveryRayTestFormat(scene, "edges and end times"), 0u);
 }
 
 TEST(HardCases, CoordinatesNear1e5And1eMinus5) {
@@ -194,7 +194,7 @@ TEST(HardCases, CoordinatesNear1e5And1eMinus5) {
         // range and finds the surface; fp16 (largest 65504, smallest 6e-8) and fixed16.8 (range
         // 32768, step 1/256) cannot hold coordinates of 5e5 or 5e-5 and their products: a
         // documented loss of these lossy formats, not of the culling.
-        const auto hits = expectTriangleFormatsExact(scene, what);
+        const auto hits = expectNarrowRayTestsExact(scene, what);
         EXPECT_EQ(hits[0], 0u) << what << ", fp16";
         EXPECT_GT(hits[1], 0u) << what << ", bf16";
         EXPECT_EQ(hits[2], 0u) << what << ", fixed16.8";
@@ -205,7 +205,7 @@ TEST(HardCases, ApertureZeroTinyAndHuge) {
     for (float aperture : {0.0f, 1e-7f, 50.0f}) {
         SceneDesc scene = baseScene();
         scene.lens = {aperture, 5.0f};
-        EXPECT_GT(hitsInEveryTriangleFormat(scene, "aperture " + std::to_string(aperture)), 0u);
+        EXPECT_GT(hitsInEveryRayTestFormat(scene, "aperture " + std::to_string(aperture)), 0u);
     }
 }
 
