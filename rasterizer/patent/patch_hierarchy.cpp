@@ -231,7 +231,10 @@ void PatchHierarchy::growForTriangleTest(const NumberFormat& triangleFormat, flo
         if (box.bounds0.empty() || !(leaves >> j & 1)) continue;
         const float distance =
             std::max(farthestCorner(box.bounds0), farthestCorner(box.bounds1)) + lensRadius;
-        const float reach = triangleTestReach(triangleFormat, distance);
+        // Beyond the format's range the reach is infinite: open to the largest float instead,
+        // as stored() does (infinity times a zero slab weight would be NaN).
+        const float reach = std::min(triangleTestReach(triangleFormat, distance),
+                                     std::numeric_limits<float>::max());
         grow(box.bounds0, reach);
         grow(box.bounds1, reach);
     }
