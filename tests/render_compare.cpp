@@ -109,44 +109,45 @@ Comparison expectStableAndExact(const SceneDesc& scene, const std::string& what)
     return c;
 }
 
+namespace {
+
+RenderResult renderOnTwoThreads(const SceneDesc& scene, const char* method) {
+    RenderOptions options;
+    options.threads = 2;
+    options.method = &methodNamed(method);
+    return renderScene(scene, options);
+}
+
+// The patch method's render of `scene` is finite and gives `reference`'s samples.
+Comparison expectPatchEquals(const SceneDesc& scene, const RenderResult& reference,
+                             const std::string& in) {
+    const RenderResult patch = renderOnTwoThreads(scene, "patch");
+    expectFinite(patch, in);
+    const Comparison c = compare(patch, reference);
+    EXPECT_EQ(c.falseRejects, 0u) << in << ": samples the reference hits and it missed";
+    EXPECT_EQ(c.mismatches, 0u) << in << ": " << c.mismatches << " samples differ";
+    return c;
+}
+
+}  // namespace
+
 std::array<std::size_t, 3> expectNarrowRayTestsExact(const SceneDesc& scene,
                                                      const std::string& what) {
-    std::array<std::size_t, 3> hits{};
-    std::size_t k = 0;
     const NumberFormat formats[] = {NumberFormat::fp16(), NumberFormat::bf16(),
                                     NumberFormat::fixed(16, 8)};
-    RenderOptions fp32Options;
-    fp32Options.threads = 2;
-    fp32Options.method = &methodNamed("reference");
-    const RenderResult fp32Reference = renderScene(scene, fp32Options);
+    const RenderResult fp32Reference = renderOnTwoThreads(scene, "reference");
     for (const NumberFormat format : formats) {
         SceneDesc boxes = scene;
         boxes.rasterizer.rayBoxFormat = format;
-        const std::string in = what + ", ray-box tests in " + formatName(format);
-        RenderOptions options;
-        options.threads = 2;
-        options.method = &methodNamed("patch");
-        const RenderResult patch = renderScene(boxes, options);
-        expectFinite(patch, in);
-        const Comparison c = compare(patch, fp32Reference);
-        EXPECT_EQ(c.falseRejects, 0u) << in << ": samples the reference hits and it missed";
-        EXPECT_EQ(c.mismatches, 0u) << in << ": " << c.mismatches << " samples differ";
+        expectPatchEquals(boxes, fp32Reference, what + ", ray-box tests in " + formatName(format));
     }
-    for (const NumberFormat format : formats) {
+    std::array<std::size_t, 3> hits{};
+    for (std::size_t k = 0; k < hits.size(); ++k) {
         SceneDesc narrow = scene;
-        narrow.rasterizer.triangleFormat = format;
-        const std::string in = what + ", triangle tests in " + formatName(format);
-        RenderOptions options;
-        options.threads = 2;
-        options.method = &methodNamed("patch");
-        const RenderResult patch = renderScene(narrow, options);
-        options.method = &methodNamed("reference");
-        const RenderResult reference = renderScene(narrow, options);
-        expectFinite(patch, in);
-        const Comparison c = compare(patch, reference);
-        EXPECT_EQ(c.falseRejects, 0u) << in << ": samples the reference hits and it missed";
-        EXPECT_EQ(c.mismatches, 0u) << in << ": " << c.mismatches << " samples differ";
-        hits[k++] = c.hits;
+        narrow.rasterizer.triangleFormat = formats[k];
+        hits[k] = expectPatchEquals(narrow, renderOnTwoThreads(narrow, "reference"),
+                                    what + ", triangle tests in " + formatName(formats[k]))
+                      .hits;
     }
     return hits;
 }
