@@ -288,7 +288,7 @@ TEST(PatchRasterizer, ScreenBoundsFormatsLoseNoHitAndOnlyLetMoreThrough) {
 // The ray-triangle tests in a narrower format (rasterizer.triangle_format, issue 35): the patch
 // method and the reference test alike, so they still agree sample for sample; the image moves away
 // from fp32's, further the fewer bits; the render reports the format.
-TEST(PatchRasterizer, ATriangleFormatRoundsEveryExactMethodsTestAlike) {
+TEST(PatchRasterizer, ATriangleFormatRoundsThePatchMethodAndTheReferenceAlike) {
     SceneDesc scene = smallScene(readSceneFile(test::sourcePath("scenes/motion_defocus.json")));
     const RenderResult exact = renderWith(scene, &methodNamed("patch"));
     double previous = 0;
