@@ -25,9 +25,10 @@ test suite runs this). Blocks:
              method
   approximate  docs/accuracy/approximate/results.csv: every non-reference method on every blurred
              scene; PSNR against modelled cycles, wall times, and each scene's Pareto front
-  memory     docs/accuracy/memory/with_memory.csv and compute_only.csv: the same sweep with the
-             memory system charged and without, each run's cycles side by side and its DRAM
-             bytes, and the cheapest exact method at each spp either way
+  memory     docs/accuracy/memory/with_memory.csv, compute_only.csv and with_banks.csv: the same
+             sweep with the memory system charged, without it, and with DRAM's banks and rows
+             too, each run's cycles side by side, its DRAM bytes and row-hit rate, and the
+             cheapest exact method at each spp each way
   formats    docs/accuracy/formats/results.csv, a `sweep --vary node-format=... --vary
              plane-format=... --vary vertex-format=...` run: each site in each format with the
              others in fp32, every site in one format, and the Pareto front in error against
@@ -318,27 +319,33 @@ def memory_block():
     folder = os.path.join(ROOT, "docs", "accuracy", "memory")
     charged_path = os.path.join(folder, "with_memory.csv")
     free_path = os.path.join(folder, "compute_only.csv")
+    banks_path = os.path.join(folder, "with_banks.csv")
     charged, free = by_key(read_csv(charged_path)), by_key(read_csv(free_path))
-    out = [source_line(charged_path, free_path), "",
+    banked = by_key(read_csv(banks_path))
+    out = [source_line(charged_path, free_path, banks_path), "",
            "| scene | method | spp | PSNR | cycles, compute only | cycles, memory charged "
-           "| ratio | DRAM bytes |", "|---|---|---|---|---|---|---|---|"]
+           "| ratio | DRAM bytes | cycles, DRAM banks | ratio | row hits |",
+           "|---|---|---|---|---|---|---|---|---|---|---|"]
     for key in sorted(charged, key=lambda k: (k[0], EXACT.index(k[1]) if k[1] in EXACT
                                               else len(EXACT), k[1], k[2])):
         scene, method, spp = key
-        r, f = charged[key], free[key]
+        r, f, b = charged[key], free[key], banked[key]
         ratio = float(r["modelled_cycles"]) / float(f["modelled_cycles"])
+        banked_ratio = float(b["modelled_cycles"]) / float(f["modelled_cycles"])
         out.append(f"| {scene} | {method} | {spp} | {float(r['psnr']):.1f} | "
                    f"{mega(f['modelled_cycles'])} | {mega(r['modelled_cycles'])} | "
-                   f"{ratio:.2f} | {float(r['dram_bytes']) / 1e6:.1f} MB |")
+                   f"{ratio:.2f} | {float(r['dram_bytes']) / 1e6:.1f} MB | "
+                   f"{mega(b['modelled_cycles'])} | {banked_ratio:.2f} | "
+                   f"{float(b['dram_row_hit_rate']):.1%} |")
     out += ["", "The cheapest exact method in modelled cycles:", "",
-            "| scene | spp | compute only | memory charged |", "|---|---|---|---|"]
+            "| scene | spp | compute only | memory charged | DRAM banks |", "|---|---|---|---|---|"]
     for scene, spp in sorted({(k[0], k[2]) for k in charged}):
         cells = []
-        for runs in (free, charged):
+        for runs in (free, charged, banked):
             exact = [(float(runs[(scene, m, spp)]["modelled_cycles"]), m) for m in EXACT
                      if (scene, m, spp) in runs]
             cells.append(min(exact)[1])
-        out.append(f"| {scene} | {spp} | {cells[0]} | {cells[1]} |")
+        out.append(f"| {scene} | {spp} | {cells[0]} | {cells[1]} | {cells[2]} |")
     return "\n".join(out)
 
 

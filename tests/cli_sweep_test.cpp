@@ -59,22 +59,37 @@ std::vector<std::string> csvColumn(const std::string& csv, int column) {
 
 // With the memory system modelled, every row is charged its own traffic: the CSV's last column,
 // DRAM bytes, is filled for each method.
+// With DRAM banks (memory_gddr3.json) each row also has its row-hit rate; without them the
+// column is empty.
 TEST(CliSweep, WithMemoryModelledEveryRowHasItsDramBytes) {
-    const std::string dir = freshFolder("memory");
-    const CommandResult r =
-        run("sweep " + smallScene("memory.json") +
-            " --methods patch,triangle-bbox,interval --spp 1 --repeats 1 --no-progress --hw " +
-            sourcePath("pipeline/hw/memory.json") + " -o " + dir);
-    ASSERT_EQ(r.exitCode, 0) << r.output;
-    const std::string csv = readFile(dir + "/results.csv");
-    EXPECT_NE(csv.find(",front,dram_bytes,energy_nj\n"), std::string::npos) << csv;
-    EXPECT_EQ(csvColumn(csv, 1), (std::vector<std::string>{"patch", "triangle-bbox", "interval"}));
-    for (const std::string& bytes : csvColumn(csv, 16)) EXPECT_GT(std::stod(bytes), 0) << csv;
-    // Each method's energy, its DRAM bytes priced among the rest, over 8 bytes at 1.95 nJ.
-    const std::vector<std::string> bytes = csvColumn(csv, 16), energy = csvColumn(csv, 17);
-    ASSERT_EQ(energy.size(), bytes.size());
-    for (std::size_t k = 0; k < energy.size(); ++k)
-        EXPECT_GT(std::stod(energy[k]), std::stod(bytes[k]) / 8 * 1.95) << csv;
+    for (const bool banks : {false, true}) {
+        const std::string dir = freshFolder(banks ? "memory-banks" : "memory");
+        const CommandResult r =
+            run("sweep " + smallScene("memory.json") +
+                " --methods patch,triangle-bbox,interval --spp 1 --repeats 1 --no-progress --hw " +
+                sourcePath(banks ? "pipeline/hw/memory_gddr3.json" : "pipeline/hw/memory.json") +
+                " -o " + dir);
+        ASSERT_EQ(r.exitCode, 0) << r.output;
+        const std::string csv = readFile(dir + "/results.csv");
+        EXPECT_NE(csv.find(",front,dram_bytes,dram_row_hit_rate,energy_nj\n"), std::string::npos)
+            << csv;
+        EXPECT_EQ(csvColumn(csv, 1),
+                  (std::vector<std::string>{"patch", "triangle-bbox", "interval"}));
+        for (const std::string& bytes : csvColumn(csv, 16)) EXPECT_GT(std::stod(bytes), 0) << csv;
+        for (const std::string& rate : csvColumn(csv, 17)) {
+            if (!banks) {
+                EXPECT_EQ(rate, "") << csv;
+                continue;
+            }
+            EXPECT_GT(std::stod(rate), 0) << csv;
+            EXPECT_LE(std::stod(rate), 1) << csv;
+        }
+        // Each method's energy, its DRAM bytes priced among the rest, over 8 bytes at 1.95 nJ.
+        const std::vector<std::string> bytes = csvColumn(csv, 16), energy = csvColumn(csv, 18);
+        ASSERT_EQ(energy.size(), bytes.size());
+        for (std::size_t k = 0; k < energy.size(); ++k)
+            EXPECT_GT(std::stod(energy[k]), std::stod(bytes[k]) / 8 * 1.95) << csv;
+    }
 }
 
 TEST(CliSweep, ScenesOfTheSameNameGetTheirOwnRuns) {

@@ -186,7 +186,36 @@ TEST(HardwareConfig, BadMemoryFieldsAreRefusedByName) {
         {R"({"depth_compression": "zip"})", "memory.depth_compression: expected \"none\""},
         {R"({"order": "tiles"})", "memory.order: expected \"regions\" or \"patches\""},
         {R"({"caches": {"llc": {"size_bytes": 4294967296}}})",
-         "memory.caches.llc.size_bytes: at most 16777216 lines"}};
+         "memory.caches.llc.size_bytes: at most 16777216 lines"},
+        {R"({"dram": {"row_bytes": 4096}})", "memory.dram.row_bytes: given without \"banks\""},
+        {R"({"dram": {"banks": 0, "row_bytes": 4096, "t_rcd": 1, "t_rp": 1, "t_rrd": 1}})",
+         "memory.dram.banks: value 0"},
+        {R"({"dram": {"banks": 8, "row_bytes": 4096, "t_rp": 1, "t_rrd": 1}})",
+         "memory.dram.t_rcd: missing"},
+        {R"({"dram": {"banks": 8, "row_bytes": 1000, "t_rcd": 1, "t_rp": 1, "t_rrd": 1}})",
+         "memory.dram.row_bytes: must be a power of two of at least the line size (64 bytes)"},
+        {R"({"dram": {"banks": 8, "row_bytes": 32, "t_rcd": 1, "t_rp": 1, "t_rrd": 1}})",
+         "memory.dram.row_bytes: must be a power of two"},
+        {R"({"dram": {"banks": 8, "row_bytes": 4096, "t_rcd": -1, "t_rp": 1, "t_rrd": 1}})",
+         "memory.dram.t_rcd: value -1"},
+        {R"({"dram": {"banks": 2.5, "row_bytes": 4096, "t_rcd": 1, "t_rp": 1, "t_rrd": 1}})",
+         "memory.dram.banks"},
+        {R"({"dram": {"channels": 2}})", "memory.dram.channels: given without \"banks\""},
+        {R"({"dram": {"channels": 8, "banks": 64, "row_bytes": 4096, "t_rcd": 1, "t_rp": 1,
+                      "t_rrd": 1}})",
+         "memory.dram.banks: channels x banks must be at most 256, found 512"},
+        {R"({"dram": {"channels": 2, "channel_bytes": 96, "banks": 8, "row_bytes": 4096,
+                      "t_rcd": 1, "t_rp": 1, "t_rrd": 1}})",
+         "memory.dram.channel_bytes: must be a power of two"},
+        {R"({"dram": {"banks": 8, "row_bytes": 4096, "t_rcd": 1, "t_rp": 1, "t_rrd": "9"}})",
+         "memory.dram.t_rrd: expected a number"},
+        {R"({"dram": {"banks": 8, "row_bytes": 4096, "t_rcd": 1, "t_rp": 1, "t_rrd": 1,
+                      "mapping": "hash"}})",
+         "memory.dram.mapping: expected \"linear\" or \"xor\""},
+        {R"({"dram": {"channels": 3, "banks": 8, "row_bytes": 4096, "t_rcd": 1, "t_rp": 1,
+                      "t_rrd": 1, "mapping": "xor"}})",
+         "memory.dram.mapping: \"xor\" needs channels and banks that are powers of two, found 3 x "
+         "8"}};
     for (const auto& [edit, expected] : cases)
         EXPECT_NE(memoryErrorOf(edit).find(expected), std::string::npos)
             << edit << " -> " << memoryErrorOf(edit);
@@ -201,10 +230,9 @@ TEST(HardwareConfig, AGridPointDerivesTheCachesItsFileLeftOut) {
     file["memory"]["caches"].erase("layers");
     const HardwareConfig base = parseHardwareConfig(file.dump(), "hw.json");
     HardwareConfig c = base;
-    setHardwareParameters(c,
-                          {{"memory.caches.visibility.size_bytes", 4096, "v"},
-                           {"memory.line_bytes", 1024, "l"}},
-                          "grid.json");
+    setHardwareParameters(
+        c, {{"memory.caches.visibility.size_bytes", 4096, "v"}, {"memory.line_bytes", 1024, "l"}},
+        "grid.json");
     EXPECT_EQ(c.memory->cache(CacheClient::Layers).geometry.sizeBytes, 4096u);
     EXPECT_EQ(c.memory->cache(CacheClient::Layers).geometry.lineBytes, 1024u);
     EXPECT_EQ(c.memory->cache(CacheClient::VertexInput).geometry.sizeBytes, 32u * 1024);
@@ -218,6 +246,36 @@ TEST(HardwareConfig, AGridPointDerivesTheCachesItsFileLeftOut) {
     EXPECT_EQ(c.memory->cache(CacheClient::Layers).geometry.sizeBytes, 65536u);
     EXPECT_EQ(c.memory->cache(CacheClient::Layers).geometry.ways, 8u);
     EXPECT_EQ(memoryConfigJson(*c.memory)["caches"]["vertex_input"]["size_bytes"], 2048);
+}
+
+// pipeline/hw/memory_gddr3.json: memory.json with DRAM's banks and rows (ATTILA's GDDR3
+// timings at the file's clock); its fields round-trip through the section's JSON and are grid
+// axes, and a grid point is checked as a file is.
+TEST(HardwareConfig, DramBanksAreReadAndAreGridAxes) {
+    HardwareConfig c = readHardwareConfig(test::sourcePath("pipeline/hw/memory_gddr3.json"));
+    ASSERT_TRUE(c.memory);
+    const DramBankConfig& b = c.memory->dramBanks;
+    EXPECT_EQ(b.channels, 8);
+    EXPECT_EQ(b.channelBytes, 256u);
+    EXPECT_EQ(b.banks, 8);
+    EXPECT_EQ(b.rowBytes, 4096u);
+    EXPECT_EQ(b.activateCycles, 33);
+    EXPECT_EQ(b.prechargeCycles, 35);
+    EXPECT_EQ(b.activateToActivateCycles, 23);
+    const nlohmann::json dram = memoryConfigJson(*c.memory)["dram"];
+    EXPECT_EQ(dram["banks"], 8);
+    EXPECT_EQ(dram["channels"], 8);
+    EXPECT_EQ(dram["t_rrd"], 23);
+    EXPECT_FALSE(
+        memoryConfigJson(
+            *readHardwareConfig(test::sourcePath("pipeline/hw/memory.json")).memory)["dram"]
+            .contains("banks"));
+    setHardwareParameters(c, {{"memory.dram.banks", 8, "b"}, {"memory.dram.t_rp", 0, "p"}},
+                          "grid.json");
+    EXPECT_EQ(c.memory->dramBanks.banks, 8);
+    EXPECT_EQ(c.memory->dramBanks.prechargeCycles, 0);
+    EXPECT_THROW(setHardwareParameters(c, {{"memory.dram.row_bytes", 48, "r"}}, "grid.json"),
+                 InputError);
 }
 
 TEST(HardwareConfig, MemoryParametersBySetPath) {

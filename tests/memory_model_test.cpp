@@ -459,5 +459,50 @@ TEST(MemoryModel, ABandwidthBoundFrameRunsAtTheConfiguredBandwidth) {
     EXPECT_FALSE(simulateTiming(r.patchOps, computeOnly, &m).memory);
 }
 
+// DRAM with banks (dram_banks.h): with no activation cost the banks never outlast the bus, so
+// the frame's cycles are the ideal bus's; the full-screen quad writes its surfaces in address
+// order, so nearly every transfer is a row hit and a bandwidth-bound frame still runs near the
+// configured bandwidth; one bank that is slow to open a row makes the frame DRAM-bound and
+// longer, by the row misses the replay counted.
+TEST(MemoryModel, DramBanksChargeTheRowsAFrameReopens) {
+    const RenderResult r = renderTraced(fullScreenQuad(64, 48, 4));
+    HardwareConfig hw = defaultHardwareConfig();
+    hw.memory = cachesOf(1024, 4096);
+    hw.memory->dramBytesPerClock = 0.25;
+    const MemoryReport ideal = replay(r, *hw.memory);
+    const double idealCycles = simulateTiming(r.patchOps, hw, &ideal).totalCycles;
+
+    hw.memory->dramBanks = {.banks = 8, .rowBytes = 2048};
+    const MemoryReport free = replay(r, *hw.memory);
+    EXPECT_EQ(free.dramBanks.transfers * 64, free.dramBytes());
+    EXPECT_NEAR(simulateTiming(r.patchOps, hw, &free).totalCycles, idealCycles, 1e-9 * idealCycles);
+
+    hw.memory->dramBanks = {.channels = 4,
+                            .banks = 8,
+                            .rowBytes = 2048,
+                            .activateCycles = 33,
+                            .prechargeCycles = 35,
+                            .activateToActivateCycles = 23};
+    const MemoryReport banked = replay(r, *hw.memory);
+    EXPECT_EQ(banked.dramBanks.transfers, free.dramBanks.transfers);
+    EXPECT_GT(banked.dramBanks.rowHitRate(), 0.9);
+    const TimingReport streamed = simulateTiming(r.patchOps, hw, &banked);
+    EXPECT_TRUE(streamed.memoryBound);
+    EXPECT_GE(streamed.memory->dramBytesPerCycle, 0.95 * 0.25);
+
+    hw.memory->dramBytesPerClock = 64;  // the bus is never what limits here
+    hw.memory->dramBanks = {.banks = 1, .rowBytes = 64, .activateCycles = 1000};  // a row a line
+    const MemoryReport slow = replay(r, *hw.memory);
+    EXPECT_EQ(slow.dramBanks.rowHits, 0u);
+    const TimingReport slowTiming = simulateTiming(r.patchOps, hw, &slow);
+    EXPECT_TRUE(slowTiming.memoryBound);
+    EXPECT_STREQ(slowTiming.bottleneckName(), "DRAM");
+    // Every transfer an activation of the one bank: the DRAM part's busy time is 1000 cycles
+    // plus a cycle a line for each.
+    EXPECT_NEAR(slowTiming.memory->busy[kCacheClients],
+                double(slow.dramBanks.transfers) * (1000.0 + 1.0),
+                1e-6 * 1000.0 * double(slow.dramBanks.transfers));
+}
+
 }  // namespace
 }  // namespace patchsim

@@ -212,7 +212,7 @@ std::string exploreCsvHeader(const ExploreGrid& grid) {
     for (const GridAxis& a : grid.hardwareAxes) header.append(",").append(a.name);
     header +=
         ",total_cycles,microseconds,bottleneck,bottleneck_utilisation,sample_test_efficiency,"
-        "patches_over_scratch_budget,dram_bytes,energy_nj";
+        "patches_over_scratch_budget,dram_bytes,dram_row_hit_rate,energy_nj";
     for (const auto& [name, value] : CounterRegistry::instance().snapshot().byName())
         header.append(",").append(name);
     return header;
@@ -248,6 +248,9 @@ std::vector<ExploreRow> runExploreJob(const std::vector<SceneDesc>& scenes, cons
               std::string(t.bottleneckName()), formatNumber(t.bottleneckUtilisation()),
               formatNumber(ste), std::to_string(t.patchesOverBudget),
               frame.memory ? std::to_string(frame.memory->dramBytes()) : std::string(),
+              frame.memory && frame.memory->config.dramBanks.modelled()
+                  ? formatNumber(frame.memory->dramBanks.rowHitRate())
+                  : std::string(),
               formatNumber(frame.energy.totalPicojoules() / 1e3)})
             row.csv.append(",").append(field);
         for (const auto& [name, value] : counters.byName())

@@ -72,6 +72,8 @@ SweepRow measureRun(const SweepScene& s, const SweepVariant& variant, int spp,
         const FrameTiming timing = timeFrame(result, o.hardware);
         row.modelledCycles = timing.timing.totalCycles;
         if (timing.memory) row.dramBytes = timing.memory->dramBytes();
+        if (timing.memory && timing.memory->config.dramBanks.modelled())
+            row.dramRowHitRate = timing.memory->dramBanks.rowHitRate();
         row.energyNanojoules = timing.energy.totalPicojoules() / 1e3;
         row.visibility = method.totals(counters);
         row.shadingInvocations = counters[shadingCounters().invocations];
@@ -198,7 +200,7 @@ void markParetoFronts(std::vector<SweepRow>& rows) {
 std::string sweepCsvHeader() {
     return "scene,method,setting,spp,wall_seconds,modelled_cycles,samples_tested,rays,"
            "visibility_samples,sample_test_efficiency,shading_invocations,rmse,psnr,ssim,"
-           "coverage_error,front,dram_bytes,energy_nj";
+           "coverage_error,front,dram_bytes,dram_row_hit_rate,energy_nj";
 }
 
 std::string sweepCsvRow(const SweepRow& r) {
@@ -210,6 +212,7 @@ std::string sweepCsvRow(const SweepRow& r) {
            "," + number(r.rmse) + "," + number(r.psnr) + "," + number(r.ssim) + "," +
            number(r.coverageError) + "," + (r.front ? "1" : "0") + "," +
            (r.dramBytes ? std::to_string(*r.dramBytes) : std::string()) + "," +
+           (r.dramRowHitRate ? number(*r.dramRowHitRate) : std::string()) + "," +
            number(r.energyNanojoules);
 }
 

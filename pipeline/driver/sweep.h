@@ -70,6 +70,7 @@ struct SweepRow {
     double wallSeconds = 0, modelledCycles = 0;
     // With the memory system modelled: bytes to and from DRAM (the CSV leaves it empty without).
     std::optional<std::uint64_t> dramBytes;
+    std::optional<double> dramRowHitRate;  // with DRAM banks modelled
     // The modelled energy (energy_model.h): arithmetic, and the memory system's when modelled.
     double energyNanojoules = 0;
     VisibilityTotals visibility;

@@ -123,6 +123,67 @@ CacheConfig defaultVertexInputCache(std::uint32_t lineBytes) {
     return c;
 }
 
+constexpr Range kChannels{1, 64, true};
+constexpr Range kBanks{1, 64, true};
+constexpr Range kRowBytes{16, 1 << 20, true};
+constexpr Range kDramTiming{0, 1e6, false};
+constexpr const char* kBankFields[] = {"channels", "channel_bytes", "mapping", "row_bytes",
+                                       "t_rcd",    "t_rp",          "t_rrd"};
+constexpr int kMaxTotalBanks = 256;
+
+// The channels, banks and rows of DRAM (dram_banks.h): with "banks", or none of them.
+DramBankConfig readDramBanks(ObjectReader& dram, std::uint32_t lineBytes) {
+    DramBankConfig b;
+    const Json* banks = dram.find("banks");
+    if (!banks) {
+        for (const char* key : kBankFields)
+            if (dram.find(key)) dram.fail(dram.fieldName(key), "given without \"banks\"");
+        return b;
+    }
+    b.banks = int(checked(*banks, kBanks, dram.file(), dram.fieldName("banks")));
+    const auto need = [&](const char* key, const Range& range) {
+        const Json* j = dram.find(key);
+        if (!j)
+            dram.fail(dram.fieldName(key),
+                      "missing (DRAM with banks needs row_bytes, t_rcd, t_rp and t_rrd)");
+        return checked(*j, range, dram.file(), dram.fieldName(key));
+    };
+    const auto powerOfTwoOfLines = [&](const char* key, double value) {
+        const auto bytes = std::uint32_t(value);
+        if (!std::has_single_bit(bytes) || bytes < lineBytes)
+            dram.fail(dram.fieldName(key), "must be a power of two of at least the line size (" +
+                                               std::to_string(lineBytes) + " bytes)");
+        return bytes;
+    };
+    if (const Json* j = dram.find("channels"))
+        b.channels = int(checked(*j, kChannels, dram.file(), dram.fieldName("channels")));
+    if (b.channels * b.banks > kMaxTotalBanks)
+        dram.fail(dram.fieldName("banks"), "channels x banks must be at most " +
+                                               std::to_string(kMaxTotalBanks) + ", found " +
+                                               std::to_string(b.channels * b.banks));
+    if (const Json* j = dram.find("channel_bytes"))
+        b.channelBytes = powerOfTwoOfLines(
+            "channel_bytes", checked(*j, kRowBytes, dram.file(), dram.fieldName("channel_bytes")));
+    // Left out: 256 bytes, or a line if lines are longer (a line lies in one channel).
+    b.channelBytes = std::max(b.channelBytes, lineBytes);
+    b.rowBytes = powerOfTwoOfLines("row_bytes", need("row_bytes", kRowBytes));
+    const std::string mapping = dram.string("mapping", "linear");
+    if (mapping == "xor")
+        b.mapping = DramMapping::Xor;
+    else if (mapping != "linear")
+        dram.fail(dram.fieldName("mapping"),
+                  "expected \"linear\" or \"xor\", found \"" + mapping + "\"");
+    if (b.mapping == DramMapping::Xor &&
+        !(std::has_single_bit(unsigned(b.channels)) && std::has_single_bit(unsigned(b.banks))))
+        dram.fail(dram.fieldName("mapping"),
+                  "\"xor\" needs channels and banks that are powers of two, found " +
+                      std::to_string(b.channels) + " x " + std::to_string(b.banks));
+    b.activateCycles = need("t_rcd", kDramTiming);
+    b.prechargeCycles = need("t_rp", kDramTiming);
+    b.activateToActivateCycles = need("t_rrd", kDramTiming);
+    return b;
+}
+
 MemoryConfig readMemory(ObjectReader r) {
     MemoryConfig m;
     if (const Json* j = r.find("surface_tile"))
@@ -170,9 +231,25 @@ MemoryConfig readMemory(ObjectReader r) {
     const Json* latency = dram->find("latency");
     if (!latency) dram->fail(dram->fieldName("latency"), "missing");
     m.dramLatency = checked(*latency, kLatency, r.file(), dram->fieldName("latency"));
+    m.dramBanks = readDramBanks(*dram, m.lineBytes());
     dram->finish();
     r.finish();
     return m;
+}
+
+Json dramJson(const MemoryConfig& m) {
+    Json dram = {{"bytes_per_clock", m.dramBytesPerClock}, {"latency", m.dramLatency}};
+    if (const DramBankConfig& b = m.dramBanks; b.modelled()) {
+        dram["channels"] = b.channels;
+        dram["channel_bytes"] = b.channelBytes;
+        dram["mapping"] = dramMappingName(b.mapping);
+        dram["banks"] = b.banks;
+        dram["row_bytes"] = b.rowBytes;
+        dram["t_rcd"] = b.activateCycles;
+        dram["t_rp"] = b.prechargeCycles;
+        dram["t_rrd"] = b.activateToActivateCycles;
+    }
+    return dram;
 }
 
 // The section as a file gives it: with `derived`, the caches the file left out too.
@@ -193,7 +270,7 @@ Json memoryJson(const MemoryConfig& m, bool derived) {
             {"order", memoryOrderName(m.order)},
             {"depth_compression", depthCompressionName(m.depthCompression)},
             {"caches", caches},
-            {"dram", {{"bytes_per_clock", m.dramBytesPerClock}, {"latency", m.dramLatency}}}};
+            {"dram", dramJson(m)}};
 }
 
 // Sets "dram.latency" and the like (a path below "memory.") in the section's JSON; "line_bytes"

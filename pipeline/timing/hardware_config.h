@@ -15,6 +15,7 @@
 #include "core/stage_ops.h"
 #include "pipeline/timing/cache_model.h"
 #include "pipeline/timing/depth_compression.h"
+#include "pipeline/timing/dram_banks.h"
 #include "pipeline/timing/energy_model.h"
 
 namespace patchsim {
@@ -55,6 +56,7 @@ struct MemoryConfig {
     std::array<CacheConfig, kCacheClients> caches;
     double dramBytesPerClock = 32;
     double dramLatency = 200;  // cycles from a patch's last memory request to its data
+    DramBankConfig dramBanks;  // banks and rows (dram_banks.h); none: an ideal bus
     int fifoDepth = 8;         // patches waiting for the memory system
     // Depth blocks reach DRAM at their compressed size (depth_compression.h).
     DepthCompression depthCompression = DepthCompression::None;

@@ -42,7 +42,9 @@ class MemorySystem {
           caches_{CacheModel(config.caches[0].geometry), CacheModel(config.caches[1].geometry),
                   CacheModel(config.caches[2].geometry), CacheModel(config.caches[3].geometry),
                   CacheModel(config.caches[4].geometry)},
-          inDram_((endAddress / line_ + 64) / 64, 0) {
+          inDram_((endAddress / line_ + 64) / 64, 0),
+          banks_(config.dramBanks, config.dramBytesPerClock,
+                 config.dramBanks.modelled() ? patchCount : 0) {
         report_.patches.resize(patchCount);
     }
 
@@ -91,6 +93,14 @@ class MemorySystem {
     MemoryReport finish() {
         for (int c = 0; c < kCacheClients; ++c)
             report_.caches[std::size_t(c)] = caches_[std::size_t(c)].stats();
+        if (banksModelled()) {
+            report_.dramBanks = banks_.stats();
+            const std::vector<DramBanks::Time> times = banks_.patchTimes();
+            for (std::size_t p = 0; p < report_.patches.size(); ++p) {
+                report_.patches[p].dramCycles = times[p].cycles;
+                report_.dramBanks.cyclesLimitedBy[std::size_t(times[p].limit)] += times[p].cycles;
+            }
+        }
         return std::move(report_);
     }
 
@@ -107,15 +117,20 @@ class MemorySystem {
         if (!out.hit && !write && holds(line)) {
             const std::uint64_t bytes = dramBytesOf(line);
             report_.dramReadBytes += bytes;
-            report_.patches[patch].dramBytes += bytes;
+            dramTransfer(line, bytes, patch);
         }
     }
     void dramWrite(std::uint64_t line, std::size_t patch) {
         inDram_[line / 64] |= std::uint64_t(1) << (line % 64);
         const std::uint64_t bytes = dramBytesOf(line);
         report_.dramWriteBytes += bytes;
-        report_.patches[patch].dramBytes += bytes;
+        dramTransfer(line, bytes, patch);
     }
+    void dramTransfer(std::uint64_t line, std::uint64_t bytes, std::size_t patch) {
+        report_.patches[patch].dramBytes += bytes;
+        if (banksModelled()) banks_.access(line * line_, bytes, patch);
+    }
+    bool banksModelled() const { return banks_.modelled(); }
     // A line's bytes on the DRAM bus: a depth line at its block's compressed size.
     std::uint64_t dramBytesOf(std::uint64_t line) const {
         const std::uint64_t block = line * line_ / depthBlockBytes_;
@@ -129,6 +144,7 @@ class MemorySystem {
     std::uint64_t line_;
     std::array<CacheModel, kCacheClients> caches_;
     std::vector<std::uint64_t> inDram_;  // per line: written to DRAM this frame (else cleared)
+    DramBanks banks_;
     using LastLines = std::array<std::array<std::uint64_t, 2>, kCacheClients>;
     static constexpr LastLines kNoLast{
         {{kNone, kNone}, {kNone, kNone}, {kNone, kNone}, {kNone, kNone}, {kNone, kNone}}};
@@ -479,6 +495,16 @@ nlohmann::ordered_json memoryReportJson(const MemoryReport& r) {
                                    {"dram_read_bytes", r.dramReadBytes},
                                    {"dram_write_bytes", r.dramWriteBytes},
                                    {"trace_bytes", r.traceBytes}};
+    if (r.config.dramBanks.modelled()) {
+        nlohmann::ordered_json limited = nlohmann::ordered_json::object();
+        for (int k = 0; k < kDramLimits; ++k)
+            limited[dramLimitName(DramLimit(k))] = r.dramBanks.cyclesLimitedBy[std::size_t(k)];
+        json["dram_banks"] = {{"transfers", r.dramBanks.transfers},
+                              {"row_hits", r.dramBanks.rowHits},
+                              {"activations", r.dramBanks.activations},
+                              {"row_hit_rate", r.dramBanks.rowHitRate()},
+                              {"cycles_limited_by", limited}};
+    }
     if (r.depthCompression) {
         const DepthCompressionReport& d = *r.depthCompression;
         json["depth_compression"] = {{"scheme", depthCompressionName(d.scheme)},
@@ -499,7 +525,8 @@ void printMemoryReport(const MemoryReport& r, std::ostream& out) {
                       static_cast<unsigned long long>(r.requestedBytes[std::size_t(c)]));
         out << line;
     }
-    out << "  cache                line reads  line writes   hit rate  write-backs      bytes  ways\n";
+    out << "  cache                line reads  line writes   hit rate  write-backs      bytes  "
+           "ways\n";
     for (int c = 0; c < kCacheClients; ++c) {
         const CacheStats& s = r.caches[std::size_t(c)];
         const CacheGeometry& g = r.config.caches[std::size_t(c)].geometry;
@@ -517,6 +544,24 @@ void printMemoryReport(const MemoryReport& r, std::ostream& out) {
                   static_cast<unsigned long long>(r.dramReadBytes),
                   static_cast<unsigned long long>(r.dramWriteBytes));
     out << line;
+    if (const DramBankConfig& b = r.config.dramBanks; b.modelled()) {
+        const DramBankStats& d = r.dramBanks;
+        const double all = d.cyclesLimitedBy[0] + d.cyclesLimitedBy[1] + d.cyclesLimitedBy[2];
+        const auto share = [&](DramLimit k) {
+            return all > 0 ? 100.0 * d.cyclesLimitedBy[std::size_t(k)] / all : 0.0;
+        };
+        std::snprintf(line, sizeof line,
+                      "  DRAM: %d channels x %d banks, rows of %u bytes: %llu transfers, %.1f%% "
+                      "row hits, %llu activations\n",
+                      b.channels, b.banks, b.rowBytes, static_cast<unsigned long long>(d.transfers),
+                      100.0 * d.rowHitRate(), static_cast<unsigned long long>(d.activations));
+        out << line;
+        std::snprintf(line, sizeof line,
+                      "  DRAM time limited by the bus %.1f%%, a bank %.1f%%, activations "
+                      "(t_rrd) %.1f%%\n",
+                      share(DramLimit::Bus), share(DramLimit::Bank), share(DramLimit::Activations));
+        out << line;
+    }
     if (r.depthCompression) {
         const DepthCompressionReport& d = *r.depthCompression;
         std::snprintf(line, sizeof line,

@@ -22,9 +22,10 @@
 // a nearer hit writes the sample's depth and visibility lines. A miss fetches its line from the
 // last-level cache, and a last-level miss from DRAM, unless the line is still in its cleared
 // state (the frame's surfaces start cleared: fast clear, nothing to fetch). Dirty lines evicted
-// go one level down; the LLC's reach DRAM. Each access is charged to the patch of its pass (the
-// resolve and the final write-back to the frame's last patch), so the timing model sees each
-// patch's line accesses per cache and DRAM bytes.
+// go one level down; the LLC's reach DRAM (at their line's address, through its channels and
+// banks when the section models them: dram_banks.h). Each access is charged to the patch of its
+// pass (the resolve and the final write-back to the frame's last patch), so the timing model sees
+// each patch's line accesses per cache and DRAM bytes.
 //
 // Before the tiles, in patch order, the input assembler fetches each patch's control points
 // through the vertex input cache: their cage vertex indices from an index buffer (4 bytes each,
@@ -101,12 +102,15 @@ struct ControlPointFetch {
 struct PatchMemory {
     std::array<std::uint64_t, kCacheClients> lineAccesses{};
     std::uint64_t dramBytes = 0;
+    // With DRAM banks: its DRAM time (DramBanks::patchTimes).
+    double dramCycles = 0;
 };
 
 struct MemoryReport {
     std::array<CacheStats, kCacheClients> caches{};
     std::array<std::uint64_t, kMemoryClasses> requestedBytes{};
     std::uint64_t dramReadBytes = 0, dramWriteBytes = 0;
+    DramBankStats dramBanks;  // with DRAM banks modelled
     std::vector<PatchMemory> patches;
     std::uint64_t traceBytes = 0;
     // With depth compression: the frame's final depth, block by block.

@@ -33,7 +33,11 @@ double memoryCycles(const PatchMemory& patch, const MemoryConfig& config,
                                 config.caches[std::size_t(c)].linesPerClock;
         cycles = std::max(cycles, parts[std::size_t(c)]);
     }
-    parts[kCacheClients] = double(patch.dramBytes) / config.dramBytesPerClock;
+    // An ideal bus moves the patch's bytes at its rate; with banks, what the patch adds to the
+    // busiest channel's, bank's or activation stream's load (dram_banks.h).
+    parts[kCacheClients] = config.dramBanks.modelled()
+                               ? patch.dramCycles
+                               : double(patch.dramBytes) / config.dramBytesPerClock;
     return std::max(cycles, parts[kCacheClients]);
 }
 

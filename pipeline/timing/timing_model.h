@@ -40,7 +40,8 @@ struct PatchTimeline {
 
 // The memory system as the timing model sees it: one server after OM whose service time for a
 // patch is the longest of its parts (each cache's line accesses at its rate, DRAM's bytes at its
-// bandwidth), since they work side by side.
+// bandwidth or, with banks, its banks' time when that is longer: dram_banks.h), since they work
+// side by side.
 inline constexpr int kMemoryParts = kCacheClients + 1;  // the caches, then DRAM
 const char* memoryPartTitle(int part);                  // "depth cache", ..., "DRAM"
 struct MemoryTiming {
