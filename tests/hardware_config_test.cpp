@@ -201,6 +201,8 @@ TEST(HardwareConfig, BadMemoryFieldsAreRefusedByName) {
         {R"({"dram": {"banks": 2.5, "row_bytes": 4096, "t_rcd": 1, "t_rp": 1, "t_rrd": 1}})",
          "memory.dram.banks"},
         {R"({"dram": {"channels": 2}})", "memory.dram.channels: given without \"banks\""},
+        {R"({"dram": {"max_reads_in_flight": 0}})", "memory.dram.max_reads_in_flight: value 0"},
+        {R"({"dram": {"max_reads_in_flight": 1.5}})", "memory.dram.max_reads_in_flight"},
         {R"({"dram": {"channels": 8, "banks": 64, "row_bytes": 4096, "t_rcd": 1, "t_rp": 1,
                       "t_rrd": 1}})",
          "memory.dram.banks: channels x banks must be at most 256, found 512"},
@@ -270,12 +272,36 @@ TEST(HardwareConfig, DramBanksAreReadAndAreGridAxes) {
         memoryConfigJson(
             *readHardwareConfig(test::sourcePath("pipeline/hw/memory.json")).memory)["dram"]
             .contains("banks"));
+    EXPECT_EQ(c.memory->dramReadsInFlight, 0u);  // no limit unless given
     setHardwareParameters(c, {{"memory.dram.banks", 8, "b"}, {"memory.dram.t_rp", 0, "p"}},
                           "grid.json");
     EXPECT_EQ(c.memory->dramBanks.banks, 8);
     EXPECT_EQ(c.memory->dramBanks.prechargeCycles, 0);
     EXPECT_THROW(setHardwareParameters(c, {{"memory.dram.row_bytes", 48, "r"}}, "grid.json"),
                  InputError);
+}
+
+// memory.dram.max_reads_in_flight: read and written back into the section; a grid axis whether
+// or not the file gives it, and so are the banks, whose check then asks for their timings.
+TEST(HardwareConfig, ReadsInFlightAreReadAndAreAGridAxis) {
+    HardwareConfig plain = readHardwareConfig(test::sourcePath("pipeline/hw/memory.json"));
+    setHardwareParameters(plain, {{"memory.dram.max_reads_in_flight", 32, "r"}}, "grid.json");
+    EXPECT_EQ(plain.memory->dramReadsInFlight, 32u);
+    try {
+        setHardwareParameters(plain, {{"memory.dram.banks", 8, "hardware.b"}}, "grid.json");
+        ADD_FAILURE() << "banks without their timings were accepted";
+    } catch (const InputError& e) {
+        EXPECT_NE(std::string(e.what()).find("memory.dram.row_bytes: missing"), std::string::npos)
+            << e.what();
+    }
+    nlohmann::json file =
+        nlohmann::json::parse(readTextFile(test::sourcePath("pipeline/hw/memory.json")));
+    file["memory"]["dram"]["max_reads_in_flight"] = 64;
+    HardwareConfig c = parseHardwareConfig(file.dump(), "hw.json");
+    EXPECT_EQ(c.memory->dramReadsInFlight, 64u);
+    EXPECT_EQ(memoryConfigJson(*c.memory)["dram"]["max_reads_in_flight"], 64);
+    setHardwareParameters(c, {{"memory.dram.max_reads_in_flight", 128, "r"}}, "grid.json");
+    EXPECT_EQ(c.memory->dramReadsInFlight, 128u);
 }
 
 TEST(HardwareConfig, MemoryParametersBySetPath) {

@@ -504,5 +504,36 @@ TEST(MemoryModel, DramBanksChargeTheRowsAFrameReopens) {
                 1e-6 * 1000.0 * double(slow.dramBanks.transfers));
 }
 
+// A limit on DRAM reads in flight (memory.dram.max_reads_in_flight): each line read holds one
+// for DRAM's latency, so the frame reads at most limit x line / latency bytes a cycle (Little's
+// law). With 4 reads in flight and 200 cycles the part's busy time is exactly 50 cycles a read,
+// the frame is bound by it, and its reads run at no more than 4 x 64 / 200 = 1.28 bytes a cycle;
+// with a limit no frame reaches, the cycles are those without one.
+TEST(MemoryModel, ReadsInFlightBoundTheReadRateByLittlesLaw) {
+    const RenderResult r = renderTraced(fullScreenQuad(64, 48, 4));
+    HardwareConfig hw = defaultHardwareConfig();
+    hw.memory = cachesOf(1024, 4096);
+    hw.memory->dramBytesPerClock = 4096;  // the bus never limits
+    hw.memory->dramLatency = 200;
+    const MemoryReport m = replay(r, *hw.memory);
+    ASSERT_GT(m.dramReads, 0u);
+    std::uint64_t patchReads = 0;
+    for (const PatchMemory& p : m.patches) patchReads += p.dramReads;
+    EXPECT_EQ(patchReads, m.dramReads);
+    EXPECT_EQ(m.dramReads * 64, m.dramReadBytes);  // uncompressed lines
+    const double unlimited = simulateTiming(r.patchOps, hw, &m).totalCycles;
+
+    hw.memory->dramReadsInFlight = 4;
+    const TimingReport bound = simulateTiming(r.patchOps, hw, &m);
+    EXPECT_DOUBLE_EQ(bound.memory->busy[kReadsInFlightPart], double(m.dramReads) * 50.0);
+    EXPECT_TRUE(bound.memoryBound);
+    EXPECT_STREQ(bound.bottleneckName(), "DRAM reads in flight");
+    EXPECT_LE(double(m.dramReadBytes) / bound.totalCycles, 4.0 * 64.0 / 200.0);
+    EXPECT_GT(bound.totalCycles, unlimited);
+
+    hw.memory->dramReadsInFlight = 1000000;
+    EXPECT_EQ(simulateTiming(r.patchOps, hw, &m).totalCycles, unlimited);
+}
+
 }  // namespace
 }  // namespace patchsim

@@ -124,6 +124,7 @@ CacheConfig defaultVertexInputCache(std::uint32_t lineBytes) {
 }
 
 constexpr Range kChannels{1, 64, true};
+constexpr Range kReadsInFlight{1, 1e6, true};
 constexpr Range kBanks{1, 64, true};
 constexpr Range kRowBytes{16, 1 << 20, true};
 constexpr Range kDramTiming{0, 1e6, false};
@@ -232,6 +233,9 @@ MemoryConfig readMemory(ObjectReader r) {
     if (!latency) dram->fail(dram->fieldName("latency"), "missing");
     m.dramLatency = checked(*latency, kLatency, r.file(), dram->fieldName("latency"));
     m.dramBanks = readDramBanks(*dram, m.lineBytes());
+    if (const Json* j = dram->find("max_reads_in_flight"))
+        m.dramReadsInFlight = std::uint32_t(
+            checked(*j, kReadsInFlight, r.file(), dram->fieldName("max_reads_in_flight")));
     dram->finish();
     r.finish();
     return m;
@@ -239,6 +243,7 @@ MemoryConfig readMemory(ObjectReader r) {
 
 Json dramJson(const MemoryConfig& m) {
     Json dram = {{"bytes_per_clock", m.dramBytesPerClock}, {"latency", m.dramLatency}};
+    if (m.dramReadsInFlight > 0) dram["max_reads_in_flight"] = m.dramReadsInFlight;
     if (const DramBankConfig& b = m.dramBanks; b.modelled()) {
         dram["channels"] = b.channels;
         dram["channel_bytes"] = b.channelBytes;
@@ -298,6 +303,13 @@ void setInMemoryJson(Json& section, const std::string& path, const Json& value, 
         at = &(*at)[key];
     }
     const std::string key = path.substr(from);
+    // DRAM's optional fields may be set where the file left them out; the section's check
+    // then names what else they need (banks need their timings).
+    const bool optionalDramField =
+        path == "dram.max_reads_in_flight" || path == "dram.banks" ||
+        std::any_of(std::begin(kBankFields), std::end(kBankFields),
+                    [&](const char* f) { return path == std::string("dram.") + f; });
+    if (optionalDramField && !at->contains(key)) (*at)[key] = value;
     if (!at->contains(key) || (*at)[key].is_object()) unknown();  // a field, not a section
     (*at)[key] = value;
 }

@@ -57,7 +57,9 @@ struct MemoryConfig {
     double dramBytesPerClock = 32;
     double dramLatency = 200;  // cycles from a patch's last memory request to its data
     DramBankConfig dramBanks;  // banks and rows (dram_banks.h); none: an ideal bus
-    int fifoDepth = 8;         // patches waiting for the memory system
+    // DRAM line reads the memory system keeps outstanding at once; 0: no limit.
+    std::uint32_t dramReadsInFlight = 0;
+    int fifoDepth = 8;  // patches waiting for the memory system
     // Depth blocks reach DRAM at their compressed size (depth_compression.h).
     DepthCompression depthCompression = DepthCompression::None;
 

@@ -117,6 +117,8 @@ class MemorySystem {
         if (!out.hit && !write && holds(line)) {
             const std::uint64_t bytes = dramBytesOf(line);
             report_.dramReadBytes += bytes;
+            ++report_.dramReads;
+            ++report_.patches[patch].dramReads;
             dramTransfer(line, bytes, patch);
         }
     }
@@ -494,6 +496,7 @@ nlohmann::ordered_json memoryReportJson(const MemoryReport& r) {
                                    {"caches", caches},
                                    {"dram_read_bytes", r.dramReadBytes},
                                    {"dram_write_bytes", r.dramWriteBytes},
+                                   {"dram_line_reads", r.dramReads},
                                    {"trace_bytes", r.traceBytes}};
     if (r.config.dramBanks.modelled()) {
         nlohmann::ordered_json limited = nlohmann::ordered_json::object();

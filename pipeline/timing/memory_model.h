@@ -102,6 +102,7 @@ struct ControlPointFetch {
 struct PatchMemory {
     std::array<std::uint64_t, kCacheClients> lineAccesses{};
     std::uint64_t dramBytes = 0;
+    std::uint64_t dramReads = 0;  // lines read from DRAM
     // With DRAM banks: its DRAM time (DramBanks::patchTimes).
     double dramCycles = 0;
 };
@@ -110,7 +111,8 @@ struct MemoryReport {
     std::array<CacheStats, kCacheClients> caches{};
     std::array<std::uint64_t, kMemoryClasses> requestedBytes{};
     std::uint64_t dramReadBytes = 0, dramWriteBytes = 0;
-    DramBankStats dramBanks;  // with DRAM banks modelled
+    std::uint64_t dramReads = 0;  // lines read from DRAM
+    DramBankStats dramBanks;      // with DRAM banks modelled
     std::vector<PatchMemory> patches;
     std::uint64_t traceBytes = 0;
     // With depth compression: the frame's final depth, block by block.

@@ -17,7 +17,8 @@ double serviceCycles(const PatchOps& ops, const HardwareConfig& config, Stage st
 }
 
 const char* memoryPartTitle(int part) {
-    return part < kCacheClients ? cacheClientTitle(CacheClient(part)) : "DRAM";
+    if (part < kCacheClients) return cacheClientTitle(CacheClient(part));
+    return part == kDramPart ? "DRAM" : "DRAM reads in flight";
 }
 
 double TimingReport::bottleneckUtilisation() const {
@@ -35,10 +36,16 @@ double memoryCycles(const PatchMemory& patch, const MemoryConfig& config,
     }
     // An ideal bus moves the patch's bytes at its rate; with banks, what the patch adds to the
     // busiest channel's, bank's or activation stream's load (dram_banks.h).
-    parts[kCacheClients] = config.dramBanks.modelled()
-                               ? patch.dramCycles
-                               : double(patch.dramBytes) / config.dramBytesPerClock;
-    return std::max(cycles, parts[kCacheClients]);
+    parts[kDramPart] = config.dramBanks.modelled()
+                           ? patch.dramCycles
+                           : double(patch.dramBytes) / config.dramBytesPerClock;
+    // Each read holds one of the reads in flight for DRAM's latency: at most that many reads
+    // per latency (Little's law). Writes are posted and wait for nothing.
+    parts[kReadsInFlightPart] =
+        config.dramReadsInFlight > 0
+            ? double(patch.dramReads) * config.dramLatency / double(config.dramReadsInFlight)
+            : 0.0;
+    return std::max({cycles, parts[kDramPart], parts[kReadsInFlightPart]});
 }
 
 namespace {
