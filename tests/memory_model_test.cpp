@@ -489,6 +489,7 @@ TEST(MemoryModel, DramBanksChargeTheRowsAFrameReopens) {
     const TimingReport streamed = simulateTiming(r.patchOps, hw, &banked);
     EXPECT_TRUE(streamed.memoryBound);
     EXPECT_GE(streamed.memory->dramBytesPerCycle, 0.95 * 0.25);
+    EXPECT_GE(streamed.totalCycles, idealCycles);  // channels and banks never beat the ideal bus
 
     hw.memory->dramBytesPerClock = 64;  // the bus is never what limits here
     hw.memory->dramBanks = {.banks = 1, .rowBytes = 64, .activateCycles = 1000};  // a row a line

@@ -65,25 +65,22 @@ const char* dramLimitName(DramLimit limit) {
 
 std::vector<DramBanks::Time> DramBanks::patchTimes() const {
     const std::size_t patches = channelBus_.size() / std::size_t(config_.channels);
-    const auto banks = std::size_t(config_.totalBanks()), channels = std::size_t(config_.channels);
-    std::vector<double> bank(banks, 0.0), bus(channels, 0.0), activations(channels, 0.0);
+    const auto banks = std::size_t(config_.banks), channels = std::size_t(config_.channels);
     std::vector<Time> times(patches);
-    double before = 0;
     for (std::size_t p = 0; p < patches; ++p) {
-        Time longest{before, p == 0 ? DramLimit::Bus : times[p - 1].limit};
+        Time& longest = times[p];
+        // A tie goes to the bus, then to the banks: the cheaper explanation first.
         const auto consider = [&](double load, DramLimit limit) {
             if (load > longest.cycles) longest = {load, limit};
         };
-        for (std::size_t b = 0; b < banks; ++b)
-            consider(bank[b] += bankBusy_[p * banks + b], DramLimit::Bank);
-        for (std::size_t c = 0; c < channels; ++c) {
-            consider(bus[c] += channelBus_[p * channels + c], DramLimit::Bus);
-            consider(activations[c] += double(channelActivations_[p * channels + c]) *
-                                       config_.activateToActivateCycles,
-                     DramLimit::Activations);
-        }
-        times[p] = {longest.cycles - before, longest.limit};
-        before = longest.cycles;
+        for (std::size_t c = 0; c < channels; ++c)
+            consider(channelBus_[p * channels + c], DramLimit::Bus);
+        for (std::size_t b = 0; b < banks * channels; ++b)
+            consider(bankBusy_[p * banks * channels + b], DramLimit::Bank);
+        for (std::size_t c = 0; c < channels; ++c)
+            consider(
+                double(channelActivations_[p * channels + c]) * config_.activateToActivateCycles,
+                DramLimit::Activations);
     }
     return times;
 }

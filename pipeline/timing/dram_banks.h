@@ -24,24 +24,24 @@
 // then an activate (t_rcd).
 //
 // The channels and banks are occupancy servers, as the rest of the memory system is
-// (timing_model.h): each channel's bus is busy for its bytes at its share of the bandwidth; each
-// bank for its activations' t_rp + t_rcd plus its own transfers; and each channel's activations
-// follow one another at least t_rrd apart (the activate-to-activate delay between a channel's
-// banks). They work side by side and keep their backlog from patch to patch, as a memory
-// controller with a queue per channel does: DRAM's time up to patch p is the largest of these
-// loads summed over patches 0 to p (in the timing model's patch order), and patch p's DRAM time
-// is what it adds to that. Over a frame DRAM's time is thus its busiest channel's, bank's or
-// activation stream's load. Banks overlap each other's activations, so a stream that keeps many
-// banks busy runs at the bus's rate, and one that reopens rows of few banks runs at the banks';
-// traffic that falls on few channels runs at their share of the bus. A patch whose traffic lands
-// on channels less loaded than the busiest adds nothing: its requests are served beside the
-// backlog. A transfer lies at its line's uncompressed address (a compressed depth line moves
-// fewer bytes, but from the row its block lies in). The open rows carry across patches in the
-// replay's order, the modelled hardware's.
+// (timing_model.h), whose server takes one patch at a time and is busy for the longest of its
+// parts. Over one patch's DRAM transfers, each channel's bus is busy for its bytes at its share of
+// the bandwidth; each bank for its activations' t_rp + t_rcd plus its own transfers; and each
+// channel's activations follow one another at least t_rrd apart (the activate-to-activate delay
+// between a channel's banks). The patch's DRAM time is the longest of these (a tie goes to the
+// bus): never less than its bytes at the whole bus's rate, since its busiest channel carries at
+// least its share. Banks overlap each other's activations, so a stream that keeps many banks
+// busy runs at the bus's rate, and one that reopens rows of few banks runs at the banks'; traffic
+// that falls on few channels runs at their share of the bus. A patch's few lines spread unevenly
+// over the channels cost it more than the whole bus's rate, as no later patch's traffic is
+// overlapped with its own. A transfer lies at its line's uncompressed address (a compressed depth
+// line moves fewer bytes, but from the row its block lies in). The open rows carry across
+// patches in the replay's order, the modelled hardware's; all times are in core cycles.
 //
-// Not modelled: the column and read-to-write turnaround times (CAS, WL, tWTR, tRTW), refresh,
-// the four-activation window, and a scheduler that reorders requests (each is served in the
-// replay's order).
+// Not modelled: the column and write timings (CAS, WL, tWR), read-to-write turnarounds (tWTR,
+// tRTW), a row's least open time (tRAS, so tRC = tRAS + tRP between two activations of one bank
+// is taken as t_rcd + t_rp plus the transfers), refresh, the four-activation window, and a
+// scheduler that reorders requests (each is served in the replay's order).
 
 #include <array>
 #include <cstddef>
@@ -85,8 +85,8 @@ class DramBanks {
     // One transfer of `bytes` bytes at `address`, charged to `patch`.
     void access(std::uint64_t address, std::uint64_t bytes, std::size_t patch);
 
-    // Each patch's DRAM time, in patch order: what it adds to the largest load of any channel's
-    // bus, bank or activations, and which kind of load that is.
+    // Each patch's DRAM time: the longest of its channels' bus, banks' and activations' loads,
+    // and which kind of load that is.
     struct Time {
         double cycles = 0;
         DramLimit limit = DramLimit::Bus;

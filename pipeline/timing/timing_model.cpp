@@ -34,8 +34,8 @@ double memoryCycles(const PatchMemory& patch, const MemoryConfig& config,
                                 config.caches[std::size_t(c)].linesPerClock;
         cycles = std::max(cycles, parts[std::size_t(c)]);
     }
-    // An ideal bus moves the patch's bytes at its rate; with banks, what the patch adds to the
-    // busiest channel's, bank's or activation stream's load (dram_banks.h).
+    // An ideal bus moves the patch's bytes at its rate; with banks, the longest of its channels'
+    // bus, banks' and activations' loads (dram_banks.h), never less.
     parts[kDramPart] = config.dramBanks.modelled()
                            ? patch.dramCycles
                            : double(patch.dramBytes) / config.dramBytesPerClock;

@@ -40,10 +40,9 @@ struct PatchTimeline {
 
 // The memory system as the timing model sees it: one server after OM whose service time for a
 // patch is the longest of its parts (each cache's line accesses at its rate, DRAM's bytes at its
-// bandwidth or, with banks, its banks' time when that is longer: dram_banks.h; with a limit on
-// reads in flight, its DRAM reads x latency / that limit, Little's law), since they work side
-// by side.
-// The caches, then DRAM, then DRAM's reads in flight (memory.dram.max_reads_in_flight).
+// bandwidth or, with banks, its channels', banks' and activations' time: dram_banks.h; with a limit
+// on reads in flight, its DRAM reads x latency / that limit, Little's law), since they work side by
+// side. The caches, then DRAM, then DRAM's reads in flight (memory.dram.max_reads_in_flight).
 inline constexpr int kMemoryParts = kCacheClients + 2;
 inline constexpr int kDramPart = kCacheClients, kReadsInFlightPart = kCacheClients + 1;
 const char* memoryPartTitle(int part);  // "depth cache", ..., "DRAM", "DRAM reads in flight"
