@@ -62,6 +62,11 @@ class MemoryTrace {
     // Layers a sample keeps with transparency (the render's --max-layers); 0: no transparency.
     int layerSlots() const { return layerSlots_; }
     void setLayerSlots(int slots) { layerSlots_ = slots; }
+    // The passes are an accumulation buffer's (the interleaved method): the modelled hardware
+    // renders a whole frame per sample index, so the memory model replays the passes once per
+    // index, each time with that index's samples only (pipeline/timing/memory_model.h).
+    bool accumulation() const { return accumulation_; }
+    void setAccumulation(bool accumulation) { accumulation_ = accumulation; }
 
     std::size_t regionCount() const { return regions_.size(); }
     RegionTrace& region(std::size_t index) { return regions_[index]; }
@@ -88,6 +93,7 @@ class MemoryTrace {
         r.stride = stride;
     }
     int width_, height_, spp_, layerSlots_ = 0;
+    bool accumulation_ = false;
     std::vector<RegionTrace> regions_;
 };
 

@@ -29,6 +29,9 @@ test suite runs this). Blocks:
              sweep with the memory system charged, without it, and with DRAM's banks and rows
              too, each run's cycles side by side, its DRAM bytes and row-hit rate, and the
              cheapest exact method at each spp each way
+  memory-interleaved  docs/accuracy/memory/interleaved_with_memory.csv and
+             interleaved_compute_only.csv: the accumulation buffer with memory charged and
+             without, beside the exact methods' charged cycles from with_memory.csv
   formats    docs/accuracy/formats/results.csv, a `sweep --vary node-format=... --vary
              plane-format=... --vary vertex-format=...` run: each site in each format with the
              others in fp32, every site in one format, and the Pareto front in error against
@@ -349,6 +352,29 @@ def memory_block():
     return "\n".join(out)
 
 
+def memory_interleaved_block():
+    folder = os.path.join(ROOT, "docs", "accuracy", "memory")
+    charged_path = os.path.join(folder, "interleaved_with_memory.csv")
+    free_path = os.path.join(folder, "interleaved_compute_only.csv")
+    exact_path = os.path.join(folder, "with_memory.csv")
+    charged, free = by_key(read_csv(charged_path)), by_key(read_csv(free_path))
+    exact = by_key(read_csv(exact_path))
+    out = [source_line(charged_path, free_path, exact_path), "",
+           "| scene | spp | PSNR | cycles, compute only | cycles, memory charged | ratio "
+           "| DRAM bytes | patch, memory charged | interval, memory charged |",
+           "|---|---|---|---|---|---|---|---|---|"]
+    for key in sorted(charged, key=lambda k: (k[0], int(k[2]))):
+        scene, method, spp = key
+        r, f = charged[key], free[key]
+        ratio = float(r["modelled_cycles"]) / float(f["modelled_cycles"])
+        others = [mega(exact[(scene, m, spp)]["modelled_cycles"]) if (scene, m, spp) in exact
+                  else "" for m in ("patch", "interval")]
+        out.append(f"| {scene} | {spp} | {float(r['psnr']):.1f} | {mega(f['modelled_cycles'])} | "
+                   f"{mega(r['modelled_cycles'])} | {ratio:.2f} | "
+                   f"{float(r['dram_bytes']) / 1e6:.1f} MB | {others[0]} | {others[1]} |")
+    return "\n".join(out)
+
+
 SITES = ["node-format", "plane-format", "vertex-format"]
 
 
@@ -396,7 +422,8 @@ def formats_block():
 BLOCKS = {"settings": settings_block, "crossover": crossover_block,
           "motion-defocus": motion_defocus_block, "blur-levels": blur_levels_block,
           "cycles": cycles_block, "approximate": approximate_block,
-          "memory": memory_block, "formats": formats_block}
+          "memory": memory_block, "memory-interleaved": memory_interleaved_block,
+          "formats": formats_block}
 
 
 def regenerate(page_text):

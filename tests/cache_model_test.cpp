@@ -106,5 +106,24 @@ TEST(CacheModel, AFlushWritesEveryDirtyLineOnceAndKeepsThemClean) {
     for (std::uint64_t line = 0; line < 8; ++line) EXPECT_TRUE(cache.access(line, false).hit);
 }
 
+// A fast clear: an invalidated line is gone, dirty or not, and never written back; the other
+// lines keep their order, so the next fill of the set evicts what it would have without the
+// cleared line (one set of four ways, LRU: fill 1 to 4, clear 3, fill 5 and 6: 6 evicts 1).
+TEST(CacheModel, AnInvalidatedLineIsDroppedUnwrittenAndTheRestKeepTheirOrder) {
+    CacheModel cache({256, 64, 4, Replacement::Lru});
+    for (std::uint64_t line = 1; line <= 4; ++line) cache.access(line, true);
+    cache.invalidate(3);
+    cache.invalidate(99);                      // not held: nothing happens
+    EXPECT_FALSE(cache.access(5, false).hit);  // fills the freed way: no eviction
+    const CacheModel::Outcome sixth = cache.access(6, false);
+    EXPECT_FALSE(sixth.hit);
+    EXPECT_EQ(sixth.writeback, 1u);  // the least recent of 1, 2, 4, 5
+    std::vector<std::uint64_t> written;
+    cache.flush([&](std::uint64_t line) { written.push_back(line); });
+    std::sort(written.begin(), written.end());
+    EXPECT_EQ(written, (std::vector<std::uint64_t>{2, 4}));  // 3 was never written back
+    EXPECT_FALSE(cache.access(3, false).hit);
+}
+
 }  // namespace
 }  // namespace patchsim

@@ -804,19 +804,19 @@ TEST(Cli, RenderWithTheMemorySystemModelled) {
     EXPECT_NE(trace.find("\"DRAM bandwidth\""), std::string::npos);
     EXPECT_NE(trace.find("\"name\":\"memory\""), std::string::npos);
 
-    const CommandResult interleaved =
-        run("render -q --no-progress --method interleaved --width 96 --height 64 " +
-            sourcePath("scenes/static.json") + " -o " + dir + "/interleaved --hw " + hw);
-    ASSERT_EQ(interleaved.exitCode, 0) << interleaved.output;
-    EXPECT_NE(interleaved.output.find("memory: not modelled for the interleaved method"),
+    const CommandResult tfragment =
+        run("render -q --no-progress --method tfragment --width 96 --height 64 " +
+            sourcePath("scenes/static.json") + " -o " + dir + "/tfragment --hw " + hw);
+    ASSERT_EQ(tfragment.exitCode, 0) << tfragment.output;
+    EXPECT_NE(tfragment.output.find("memory: not modelled for the tfragment method"),
               std::string::npos)
-        << interleaved.output;
+        << tfragment.output;
 
-    const CommandResult sweep = run("sweep --methods patch,interleaved --spp 1 --no-progress -o " +
+    const CommandResult sweep = run("sweep --methods patch,tfragment --spp 1 --no-progress -o " +
                                     dir + "/sweep --hw " + hw);
     EXPECT_EQ(sweep.exitCode, 2) << sweep.output;
     EXPECT_NE(sweep.output.find("memory.json: memory: sweep compares its methods on modelled "
-                                "cycles, and interleaved records no memory traffic yet"),
+                                "cycles, and tfragment records no memory traffic yet"),
               std::string::npos)
         << sweep.output;
     EXPECT_FALSE(fs::exists(dir + "/sweep"));

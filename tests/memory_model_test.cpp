@@ -144,12 +144,46 @@ TEST(MemoryModel, EveryTracingMethodWritesTheQuadsSurfacesOnce) {
         EXPECT_EQ(m.dramReadBytes, 0u) << method;
         EXPECT_EQ(m.dramWriteBytes, samples * 32 + pixels * 8) << method;
     }
-    // The accumulation buffer renders a frame per sample index: not recorded yet, and said so.
-    const RenderResult interleaved = renderTraced(fullScreenQuad(16, 16, 2), 1, "interleaved");
-    EXPECT_FALSE(interleaved.memoryTrace);
+    // The t-fragment method records nothing yet, and its frame says so.
+    const RenderResult tfragment = renderTraced(fullScreenQuad(16, 16, 2), 1, "tfragment");
+    EXPECT_FALSE(tfragment.memoryTrace);
     HardwareConfig hw = defaultHardwareConfig();
     hw.memory = cachesOf(4096, 16384);
-    EXPECT_TRUE(timeFrame(interleaved, hw).memoryNotModelled);
+    EXPECT_TRUE(timeFrame(tfragment, hw).memoryNotModelled);
+}
+
+// The accumulation buffer (interleaved) renders a frame per sample index onto 1-spp surfaces:
+// every index z-tests and writes each pixel's one sample, the pass's resolve reads them and
+// adds into the accumulation buffer (16 bytes a pixel: written every pass, read every pass but
+// the first and once more for the image). Worked out for the full-screen quad: with an LLC that
+// holds the frame, each pass's surfaces are cleared before they reach DRAM, and DRAM receives
+// only the accumulation buffer and the image, written back at the end.
+TEST(MemoryModel, AnAccumulationBufferWritesAFramePerSampleIndex) {
+    const int w = 64, h = 48, spp = 4;
+    const std::uint64_t samples = std::uint64_t(w) * h * spp, pixels = std::uint64_t(w) * h;
+    const RenderResult r = renderTraced(fullScreenQuad(w, h, spp), 2, "interleaved");
+    ASSERT_TRUE(r.memoryTrace);
+    EXPECT_TRUE(r.memoryTrace->accumulation());
+    EXPECT_EQ(r.memoryTrace->samplesWritten(), samples);
+    const MemoryReport m = replay(r, cachesOf(4096, 4u << 20));
+    EXPECT_EQ(m.requested(MemoryClass::DepthWrites), samples * 4);
+    EXPECT_EQ(m.requested(MemoryClass::VisibilityWrites), samples * 28);
+    EXPECT_EQ(m.requested(MemoryClass::ResolveReads), samples * 32);
+    EXPECT_EQ(m.requested(MemoryClass::AccumulationWrites), samples * 16);
+    EXPECT_EQ(m.requested(MemoryClass::AccumulationReads), samples * 16);
+    EXPECT_EQ(m.requested(MemoryClass::ImageWrites), pixels * 8);
+    EXPECT_EQ(m.dramReadBytes, 0u);
+    EXPECT_EQ(m.dramWriteBytes, pixels * (16 + 8));
+    // With small caches the 1-spp surfaces and the accumulation buffer stream through DRAM on
+    // every pass: each pass writes its depth and records back and reads the buffer again.
+    const MemoryReport small = replay(r, cachesOf(1024, 4096));
+    EXPECT_GT(small.dramWriteBytes, std::uint64_t(spp) * pixels * 16);
+    EXPECT_GT(small.dramReadBytes, std::uint64_t(spp - 1) * pixels * 16);
+    // The same bytes on any thread count.
+    const MemoryReport one =
+        replay(renderTraced(fullScreenQuad(w, h, spp), 1, "interleaved"), cachesOf(1024, 4096));
+    EXPECT_EQ(one.dramReadBytes, small.dramReadBytes);
+    EXPECT_EQ(one.dramWriteBytes, small.dramWriteBytes);
 }
 
 // The bounding methods' traces are their sample tests and their nearer hits, band by band.
@@ -158,8 +192,9 @@ TEST(MemoryModel, TheBoundingMethodsTracesAreTheirTestsAndHits) {
     scene.film.width = 64;
     scene.film.height = 48;
     scene.film.samplesPerPixel = 4;
-    for (const auto& [name, bounding] :
-         {std::pair{"triangle-bbox", Bounding::TriangleBBox}, {"interval", Bounding::Interval}}) {
+    for (const auto& [name, bounding] : {std::pair{"triangle-bbox", Bounding::TriangleBBox},
+                                         {"interval", Bounding::Interval},
+                                         {"interleaved", Bounding::Interleaved}}) {
         const RenderResult one = renderTraced(scene, 1, name);
         const CounterValues counts = CounterRegistry::instance().snapshot();
         const BoundingCounters& c = boundingCounters(bounding);

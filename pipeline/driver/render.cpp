@@ -162,6 +162,10 @@ RenderResult renderScene(const SceneDesc& scene, const RenderOptions& options) {
     if (options.memoryTrace) {
         result.memoryTrace = method.makeMemoryTrace(scene);
         result.sampleSet = samples;  // where the samples lie, for depth compression
+        // An accumulation buffer's transparent layers, a pass per sample index, are not
+        // modelled: such a frame records nothing, and its report says memory is not modelled.
+        if (result.memoryTrace && result.transparent && result.memoryTrace->accumulation())
+            result.memoryTrace.reset();
         if (result.memoryTrace) {
             result.controlPointFetch = controlPointFetch(frontEnd);
             if (result.transparent) result.memoryTrace->setLayerSlots(options.maxLayers);
@@ -210,7 +214,9 @@ FrameTiming timeFrame(const RenderResult& result, const HardwareConfig& hardware
                                  hierarchySpills(result.patchOps, hardware.scratchBudgetBytes)};
         inputs.fetch = &result.controlPointFetch;
         std::optional<DepthCompressionReport> compression;
-        if (m.depthCompression != DepthCompression::None && result.visibility && result.sampleSet) {
+        // An accumulation buffer's depth lives one pass at a time: not compressed.
+        if (m.depthCompression != DepthCompression::None && result.visibility && result.sampleSet &&
+            !result.memoryTrace->accumulation()) {
             compression = compressDepth(*result.visibility, *result.sampleSet, m.surfaceTile,
                                         m.depthCompression);
             inputs.depthScale = compression->blockScales();

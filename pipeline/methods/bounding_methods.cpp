@@ -87,14 +87,15 @@ class BoundingMethod : public VisibilityMethod {
     std::unique_ptr<MethodFrame> start(const FrameInputs& in) const override {
         return std::make_unique<BoundingFrame>(in, bounding_);
     }
-    // triangle-bbox and interval rasterize triangle by triangle, a band of rows at a time. The
-    // accumulation buffer's traffic is a frame per sample index, which the bands do not run in
-    // that order: not recorded yet.
+    // Every bounding method rasterizes triangle by triangle, a band of rows at a time. The
+    // accumulation buffer's hardware renders a frame per sample index instead: its trace is
+    // replayed once per index (MemoryTrace::accumulation).
     std::unique_ptr<MemoryTrace> makeMemoryTrace(const SceneDesc& scene) const override {
-        if (bounding_ == Bounding::Interleaved) return nullptr;
-        return std::make_unique<MemoryTrace>(MemoryTrace::bands(scene.film.width, scene.film.height,
-                                                                FramePartition::kClasses,
-                                                                scene.film.samplesPerPixel));
+        auto trace = std::make_unique<MemoryTrace>(
+            MemoryTrace::bands(scene.film.width, scene.film.height, FramePartition::kClasses,
+                               scene.film.samplesPerPixel));
+        trace->setAccumulation(bounding_ == Bounding::Interleaved);
+        return trace;
     }
     // The bands' prepared samples are held with the film to the memory budget.
     void check(const SceneDesc& scene, const RenderOptions& options, int workers) const override {

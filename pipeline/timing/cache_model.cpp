@@ -60,4 +60,19 @@ CacheModel::Outcome CacheModel::access(std::uint64_t line, bool write) {
     return outcome;
 }
 
+void CacheModel::invalidate(std::uint64_t line) {
+    const std::size_t ways = geometry_.ways;
+    const std::size_t base = std::size_t(line % sets_) * ways;
+    std::uint64_t* set = lines_.data() + base;
+    std::uint8_t* dirty = dirty_.data() + base;
+    const std::size_t at = std::size_t(std::find(set, set + ways, line) - set);
+    if (at == ways) return;
+    // The later slots move up one, keeping their order; the freed slot goes to the end, where
+    // empty slots sit.
+    std::copy(set + at + 1, set + ways, set + at);
+    std::copy(dirty + at + 1, dirty + ways, dirty + at);
+    set[ways - 1] = kEmpty;
+    dirty[ways - 1] = 0;
+}
+
 }  // namespace patchsim

@@ -55,6 +55,8 @@ class CacheModel {
     };
     // One access to `line`; a miss fills it.
     Outcome access(std::uint64_t line, bool write);
+    // Drops `line` if held, dirty or not, without writing it back (a fast clear of dead data).
+    void invalidate(std::uint64_t line);
     // Writes back every dirty line (`emit(line)` for each) and keeps them, clean.
     template <class Emit>
     void flush(Emit emit) {

@@ -82,6 +82,15 @@ class MemorySystem {
     void request(MemoryClass c, std::uint64_t bytes) {
         report_.requestedBytes[std::size_t(c)] += bytes;
     }
+    // A fast clear of lines [first, last]: dropped from every cache unwritten, and cleared in
+    // DRAM (a later read fetches nothing).
+    void discard(std::uint64_t first, std::uint64_t last) {
+        for (std::uint64_t line = first; line <= last; ++line) {
+            for (CacheModel& cache : caches_) cache.invalidate(line);
+            inDram_[line / 64] &= ~(std::uint64_t(1) << (line % 64));
+        }
+        newPass();
+    }
     // Every dirty line written back, the client caches' through the LLC.
     void writeBack(std::size_t patch) {
         for (int c = 0; c < kCacheClients - 1; ++c)
@@ -347,6 +356,101 @@ void replayPass(const MemoryTrace& trace, const SurfaceLayout& layout, const Spi
     }
 }
 
+// Sample index s of the accumulation buffer's passes (memory_model.h): each pass's index-s reads
+// and writes, onto the pixel's one sample of `layout` (at 1 spp).
+void replayIndexPass(const MemoryTrace& trace, const SurfaceLayout& layout, std::size_t r,
+                     std::size_t p, std::uint32_t s, MemorySystem& memory) {
+    const auto spp = std::uint32_t(trace.samplesPerPixel());
+    const RegionTrace& region = trace.region(r);
+    const auto stride = std::uint32_t(region.stride);
+    const std::size_t patch = region.passes[p].patch;
+    memory.newPass();
+    std::uint64_t reads = 0, writes = 0;
+    for (std::uint32_t local : trace.reads(region, p)) {
+        if (local % spp != s) continue;
+        const std::uint32_t pixel = local / spp;
+        const int x = region.x0 + int(pixel % stride), y = region.y0 + int(pixel / stride);
+        memory.access(CacheClient::Depth, memory.lineOf(layout.depthAddress(x, y, 0)), false,
+                      patch);
+        ++reads;
+    }
+    for (std::uint32_t local : trace.writes(region, p)) {
+        if (local % spp != s) continue;
+        const std::uint32_t pixel = local / spp;
+        const int x = region.x0 + int(pixel % stride), y = region.y0 + int(pixel / stride);
+        memory.access(CacheClient::Depth, memory.lineOf(layout.depthAddress(x, y, 0)), true, patch);
+        const std::uint64_t v = layout.visibilityAddress(x, y, 0);
+        for (std::uint64_t line = memory.lineOf(v); line <= memory.lineOf(v + kVisibilityBytes - 1);
+             ++line)
+            memory.access(CacheClient::Visibility, line, true, patch);
+        ++writes;
+    }
+    memory.request(MemoryClass::DepthReads, reads * kDepthBytes);
+    memory.request(MemoryClass::DepthWrites, writes * kDepthBytes);
+    memory.request(MemoryClass::VisibilityWrites, writes * kVisibilityBytes);
+}
+
+// The accumulation buffer's frame: per sample index the front end, the passes, the resolve into
+// the accumulation buffer at `accumulation` and a fast clear; then the image (memory_model.h).
+void replayAccumulation(const MemoryTrace& trace, const SurfaceLayout& layout,
+                        const InputBuffers& inputs, std::uint64_t accumulation, std::size_t patches,
+                        std::size_t lastPatch, bool frontEnd, MemorySystem& memory) {
+    const auto pixelLines = [&](CacheClient client, std::uint64_t at, std::uint64_t bytes) {
+        for (std::uint64_t line = memory.lineOf(at); line <= memory.lineOf(at + bytes - 1); ++line)
+            memory.access(client, line, false, lastPatch);
+    };
+    // The accumulation buffer goes through the last-level cache, a line at a time: read (once a
+    // line), then written whole as its pixels are written in order.
+    std::uint64_t lastRead = ~std::uint64_t(0);
+    const auto readAccumulation = [&](std::uint64_t at) {
+        for (std::uint64_t line = memory.lineOf(at);
+             line <= memory.lineOf(at + kAccumulationPixelBytes - 1); ++line)
+            if (line != lastRead) memory.readLastLevel(lastRead = line, lastPatch);
+    };
+    const auto writeAccumulation = [&](std::uint64_t at) {
+        for (std::uint64_t line = memory.lineOf(at);
+             line <= memory.lineOf(at + kAccumulationPixelBytes - 1); ++line)
+            memory.streamWrite(line, lastPatch);
+    };
+    const auto accumulationAddress = [&](int x, int y) {
+        return accumulation + (std::uint64_t(y) * std::uint64_t(trace.width()) + std::uint64_t(x)) *
+                                  kAccumulationPixelBytes;
+    };
+    const auto pixels = std::uint64_t(trace.width()) * std::uint64_t(trace.height());
+    for (int s = 0; s < trace.samplesPerPixel(); ++s) {
+        if (frontEnd)
+            for (std::size_t p = 0; p < patches; ++p) inputs.read(p, memory);
+        for (std::size_t r = 0; r < trace.regionCount(); ++r)
+            for (std::size_t p = 0; p < trace.region(r).passes.size(); ++p)
+                replayIndexPass(trace, layout, r, p, std::uint32_t(s), memory);
+        // The pass's resolve: each pixel's sample read and added into the accumulation buffer.
+        memory.newPass();
+        for (int y = 0; y < trace.height(); ++y)
+            for (int x = 0; x < trace.width(); ++x) {
+                pixelLines(CacheClient::Depth, layout.depthAddress(x, y, 0), kDepthBytes);
+                pixelLines(CacheClient::Visibility, layout.visibilityAddress(x, y, 0),
+                           kVisibilityBytes);
+                if (s > 0) readAccumulation(accumulationAddress(x, y));
+                writeAccumulation(accumulationAddress(x, y));
+            }
+        memory.request(MemoryClass::ResolveReads, pixels * (kDepthBytes + kVisibilityBytes));
+        if (s > 0) memory.request(MemoryClass::AccumulationReads, pixels * kAccumulationPixelBytes);
+        memory.request(MemoryClass::AccumulationWrites, pixels * kAccumulationPixelBytes);
+        // The next index starts from cleared surfaces: this one's are dead.
+        memory.discard(memory.lineOf(layout.depthAddress(0, 0, 0)),
+                       memory.lineOf(layout.imageAddress(0, 0) - 1));
+        lastRead = ~std::uint64_t(0);
+    }
+    memory.newPass();
+    for (int y = 0; y < trace.height(); ++y)
+        for (int x = 0; x < trace.width(); ++x) {
+            readAccumulation(accumulationAddress(x, y));
+            memory.streamWrite(memory.lineOf(layout.imageAddress(x, y)), lastPatch);
+        }
+    memory.request(MemoryClass::AccumulationReads, pixels * kAccumulationPixelBytes);
+    memory.request(MemoryClass::ImageWrites, pixels * kImagePixelBytes);
+}
+
 // The front end's traffic and every pass, in the order of `order` (MemoryOrder). `frontEnd`:
 // fetch each patch and write its spill too (not in the repeats of a warm frame).
 void replayPasses(const MemoryTrace& trace, const SurfaceLayout& layout, const Spills& spills,
@@ -456,8 +560,41 @@ std::vector<std::uint64_t> hierarchySpills(const std::vector<PatchOps>& patches,
     return spills;
 }
 
+namespace {
+
+// The accumulation buffer's frame (memory_model.h): surfaces at 1 spp, the accumulation buffer
+// after them, then the scene's buffers; no layers (transparent frames are not recorded), no
+// spills (the bounding methods build no hierarchy) and no depth compression.
+MemoryReport simulateAccumulation(const MemoryTrace& trace, const MemoryConfig& config,
+                                  const FrameMemoryInputs& frame) {
+    const SurfaceLayout layout(trace.width(), trace.height(), 1, config.surfaceTile);
+    const std::uint64_t accumulation = alignUp(layout.endAddress());
+    const InputBuffers inputs(
+        frame.fetch,
+        alignUp(accumulation + std::uint64_t(trace.width()) * std::uint64_t(trace.height()) *
+                                   kAccumulationPixelBytes));
+    const std::size_t patches = std::max(frame.patchCount, frame.lastPatch + 1);
+    const std::uint64_t depthBlockBytes =
+        std::uint64_t(config.surfaceTile) * std::uint64_t(config.surfaceTile) * kDepthBytes;
+    const std::vector<double> uncompressed;  // a pass's depth lives one pass: not compressed
+    MemorySystem memory(config, inputs.endAddress(), patches, uncompressed, depthBlockBytes);
+    inputs.markInDram(memory);
+    for (int f = 0; f < frame.frames; ++f)
+        replayAccumulation(trace, layout, inputs, accumulation, patches, frame.lastPatch, f == 0,
+                           memory);
+    memory.writeBack(frame.lastPatch);
+    MemoryReport report = memory.finish();
+    report.patches.resize(frame.patchCount);
+    report.traceBytes = trace.bytes();
+    report.config = config;
+    return report;
+}
+
+}  // namespace
+
 MemoryReport simulateMemory(const MemoryTrace& trace, const MemoryConfig& config,
                             const FrameMemoryInputs& frame) {
+    if (trace.accumulation()) return simulateAccumulation(trace, config, frame);
     const SurfaceLayout layout(trace.width(), trace.height(), trace.samplesPerPixel(),
                                config.surfaceTile);
     LayerBuffer layers(trace, layout, alignUp(layout.endAddress()));

@@ -43,6 +43,17 @@
 // or lost to a nearer layer may write nothing). The resolve reads each sample's header and
 // layers. All of it goes through the layer cache.
 //
+// An accumulation buffer's trace (MemoryTrace::accumulation, the interleaved method) is
+// replayed as the modelled hardware renders it: a whole frame per sample index s. Its surfaces
+// hold one sample a pixel (the same tiled layout at 1 spp), and an accumulation buffer of
+// 16 bytes a pixel follows them. For each index the front end fetches every patch again, the
+// passes run with their index-s reads and writes only, onto the pixel's one sample; then a
+// resolve reads each pixel's depth and record, adds its colour into the accumulation buffer (a
+// read, but for the first index, and a write), and a fast clear drops the dead depth and
+// visibility lines from every cache without writing them back. After the last index the
+// accumulation buffer is read once more and the image written. Transparent frames are not
+// replayed this way (the render records no trace for them).
+//
 // A patch whose hierarchy outgrows the on-chip scratch budget spills the excess: written once
 // through the LLC when the hierarchy is built (before the tiles, in patch order), read again
 // through the LLC by each of the patch's tile passes (all of it: an upper bound, as which nodes a
@@ -74,20 +85,24 @@ namespace patchsim {
     X(IndexReads, "index_reads", "a patch's control-point indices (4 bytes each)")               \
     X(ControlPointReads, "control_point_reads", "its control points' cage positions (12 bytes)") \
     X(LayerReads, "layer_reads", "an offer's reads of a sample's layer header and its layers")   \
-    X(LayerWrites, "layer_writes", "an offer's layer written (32 bytes), and header when added")
+    X(LayerWrites, "layer_writes", "an offer's layer written (32 bytes), and header when added") \
+    X(AccumulationReads, "accumulation_reads",                                                   \
+      "an accumulation buffer's pixel read to add a pass, and at the end (16 bytes)")            \
+    X(AccumulationWrites, "accumulation_writes", "its pixel written after each pass (16 bytes)")
 
 enum class MemoryClass : std::uint8_t {
 #define PATCHSIM_MEMORY_CLASS_ENUM(name, key, definition) name,
     PATCHSIM_MEMORY_CLASSES(PATCHSIM_MEMORY_CLASS_ENUM)
 #undef PATCHSIM_MEMORY_CLASS_ENUM
 };
-inline constexpr int kMemoryClasses = 11;
+inline constexpr int kMemoryClasses = 13;
 const char* memoryClassName(MemoryClass c);
 const char* memoryClassDefinition(MemoryClass c);
 
 inline constexpr std::uint32_t kDepthBytes = 4, kVisibilityBytes = 28, kImagePixelBytes = 8;
 inline constexpr std::uint32_t kIndexBytes = 4, kControlPointBytes = 12;
 inline constexpr std::uint32_t kLayerHeaderBytes = 4, kLayerBytes = 32;
+inline constexpr std::uint32_t kAccumulationPixelBytes = 16;  // RGBA at 32 bits
 
 // What the input assembler fetches for each patch, in patch order: its control points' indices
 // into the scene's vertex buffer (every object's cage vertices, object after object).
