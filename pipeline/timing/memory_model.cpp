@@ -356,38 +356,80 @@ void replayPass(const MemoryTrace& trace, const SurfaceLayout& layout, const Spi
     }
 }
 
-// Sample index s of the accumulation buffer's passes (memory_model.h): each pass's index-s reads
+// A trace's reads and writes of each pass regrouped by sample index (a counting sort per pass,
+// once), each as its pixel's number in the region, so that index s's replay visits its own only.
+class PassesByIndex {
+  public:
+    explicit PassesByIndex(const MemoryTrace& trace) : spp_(std::size_t(trace.samplesPerPixel())) {
+        for (std::size_t r = 0; r < trace.regionCount(); ++r) {
+            const RegionTrace& region = trace.region(r);
+            reads_.push_back(
+                regroup(region, [&](std::size_t p) { return trace.reads(region, p); }));
+            writes_.push_back(
+                regroup(region, [&](std::size_t p) { return trace.writes(region, p); }));
+        }
+    }
+    std::span<const std::uint32_t> reads(std::size_t r, std::size_t p, std::size_t s) const {
+        return reads_[r].of(p * spp_ + s);
+    }
+    std::span<const std::uint32_t> writes(std::size_t r, std::size_t p, std::size_t s) const {
+        return writes_[r].of(p * spp_ + s);
+    }
+
+  private:
+    struct Lists {
+        std::vector<std::uint32_t> pixels;
+        std::vector<std::uint64_t> begin;  // list k: [begin[k], begin[k + 1])
+        std::span<const std::uint32_t> of(std::size_t k) const {
+            return {pixels.data() + begin[k], std::size_t(begin[k + 1] - begin[k])};
+        }
+    };
+    template <class PassList>
+    Lists regroup(const RegionTrace& region, PassList list) const {
+        Lists out;
+        out.begin.assign(region.passes.size() * spp_ + 1, 0);
+        for (std::size_t p = 0; p < region.passes.size(); ++p)
+            for (std::uint32_t local : list(p)) ++out.begin[p * spp_ + local % spp_ + 1];
+        for (std::size_t k = 1; k < out.begin.size(); ++k) out.begin[k] += out.begin[k - 1];
+        out.pixels.resize(out.begin.back());
+        std::vector<std::uint64_t> next(out.begin.begin(), out.begin.end() - 1);
+        for (std::size_t p = 0; p < region.passes.size(); ++p)
+            for (std::uint32_t local : list(p))
+                out.pixels[next[p * spp_ + local % spp_]++] = std::uint32_t(local / spp_);
+        return out;
+    }
+    std::size_t spp_;
+    std::vector<Lists> reads_, writes_;  // per region
+};
+
+// Sample index s of the accumulation buffer's pass p of region r (memory_model.h): its reads
 // and writes, onto the pixel's one sample of `layout` (at 1 spp).
-void replayIndexPass(const MemoryTrace& trace, const SurfaceLayout& layout, std::size_t r,
-                     std::size_t p, std::uint32_t s, MemorySystem& memory) {
-    const auto spp = std::uint32_t(trace.samplesPerPixel());
+void replayIndexPass(const MemoryTrace& trace, const PassesByIndex& byIndex,
+                     const SurfaceLayout& layout, std::size_t r, std::size_t p, std::size_t s,
+                     MemorySystem& memory) {
     const RegionTrace& region = trace.region(r);
     const auto stride = std::uint32_t(region.stride);
     const std::size_t patch = region.passes[p].patch;
+    const auto depthLine = [&](std::uint32_t pixel) {
+        const int x = region.x0 + int(pixel % stride), y = region.y0 + int(pixel / stride);
+        return memory.lineOf(layout.depthAddress(x, y, 0));
+    };
     memory.newPass();
-    std::uint64_t reads = 0, writes = 0;
-    for (std::uint32_t local : trace.reads(region, p)) {
-        if (local % spp != s) continue;
-        const std::uint32_t pixel = local / spp;
-        const int x = region.x0 + int(pixel % stride), y = region.y0 + int(pixel / stride);
-        memory.access(CacheClient::Depth, memory.lineOf(layout.depthAddress(x, y, 0)), false,
-                      patch);
-        ++reads;
-    }
-    for (std::uint32_t local : trace.writes(region, p)) {
-        if (local % spp != s) continue;
-        const std::uint32_t pixel = local / spp;
-        const int x = region.x0 + int(pixel % stride), y = region.y0 + int(pixel / stride);
-        memory.access(CacheClient::Depth, memory.lineOf(layout.depthAddress(x, y, 0)), true, patch);
-        const std::uint64_t v = layout.visibilityAddress(x, y, 0);
+    const std::span<const std::uint32_t> reads = byIndex.reads(r, p, s);
+    const std::span<const std::uint32_t> writes = byIndex.writes(r, p, s);
+    for (std::uint32_t pixel : reads)
+        memory.access(CacheClient::Depth, depthLine(pixel), false, patch);
+    for (std::uint32_t pixel : writes) {
+        memory.access(CacheClient::Depth, depthLine(pixel), true, patch);
+        const std::uint64_t v = layout.visibilityAddress(region.x0 + int(pixel % stride),
+                                                         region.y0 + int(pixel / stride), 0);
         for (std::uint64_t line = memory.lineOf(v); line <= memory.lineOf(v + kVisibilityBytes - 1);
              ++line)
             memory.access(CacheClient::Visibility, line, true, patch);
-        ++writes;
     }
-    memory.request(MemoryClass::DepthReads, reads * kDepthBytes);
-    memory.request(MemoryClass::DepthWrites, writes * kDepthBytes);
-    memory.request(MemoryClass::VisibilityWrites, writes * kVisibilityBytes);
+    memory.request(MemoryClass::DepthReads, reads.size() * kDepthBytes);
+    memory.request(MemoryClass::DepthWrites, writes.size() * kDepthBytes);
+    memory.request(MemoryClass::VisibilityWrites, writes.size() * kVisibilityBytes);
 }
 
 // The accumulation buffer's frame: per sample index the front end, the passes, the resolve into
@@ -417,12 +459,13 @@ void replayAccumulation(const MemoryTrace& trace, const SurfaceLayout& layout,
                                   kAccumulationPixelBytes;
     };
     const auto pixels = std::uint64_t(trace.width()) * std::uint64_t(trace.height());
+    const PassesByIndex byIndex(trace);
     for (int s = 0; s < trace.samplesPerPixel(); ++s) {
         if (frontEnd)
             for (std::size_t p = 0; p < patches; ++p) inputs.read(p, memory);
         for (std::size_t r = 0; r < trace.regionCount(); ++r)
             for (std::size_t p = 0; p < trace.region(r).passes.size(); ++p)
-                replayIndexPass(trace, layout, r, p, std::uint32_t(s), memory);
+                replayIndexPass(trace, byIndex, layout, r, p, std::size_t(s), memory);
         // The pass's resolve: each pixel's sample read and added into the accumulation buffer.
         memory.newPass();
         for (int y = 0; y < trace.height(); ++y)
