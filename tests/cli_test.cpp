@@ -819,6 +819,26 @@ TEST(Cli, RenderWithTheMemorySystemModelled) {
                                 "cycles, and tfragment records no memory traffic yet"),
               std::string::npos)
         << sweep.output;
+    // The accumulation buffer records its traffic, but not on a transparent frame: a render says
+    // so, and a sweep over a transparent scene refuses it.
+    const std::string transparent = sourcePath("scenes/transparency.json");
+    const CommandResult layers =
+        run("render -q --no-progress --method interleaved --width 32 --height 24 --spp 2 " +
+            transparent + " -o " + dir + "/layers --hw " + hw);
+    ASSERT_EQ(layers.exitCode, 0) << layers.output;
+    EXPECT_NE(layers.output.find("memory: not modelled for the interleaved method yet (it records "
+                                 "no surface traffic on transparent frames)"),
+              std::string::npos)
+        << layers.output;
+    const CommandResult transparentSweep =
+        run("sweep " + transparent + " --methods patch,interleaved --spp 1 --no-progress -o " +
+            dir + "/sweep-transparent --hw " + hw);
+    EXPECT_EQ(transparentSweep.exitCode, 2) << transparentSweep.output;
+    EXPECT_NE(transparentSweep.output.find(
+                  "and interleaved records no memory traffic on transparent frames yet"),
+              std::string::npos)
+        << transparentSweep.output;
+    EXPECT_FALSE(fs::exists(dir + "/sweep-transparent"));
     EXPECT_FALSE(fs::exists(dir + "/sweep"));
 }
 

@@ -184,6 +184,13 @@ TEST(MemoryModel, AnAccumulationBufferWritesAFramePerSampleIndex) {
         replay(renderTraced(fullScreenQuad(w, h, spp), 1, "interleaved"), cachesOf(1024, 4096));
     EXPECT_EQ(one.dramReadBytes, small.dramReadBytes);
     EXPECT_EQ(one.dramWriteBytes, small.dramWriteBytes);
+    // A patch at a time replays the same passes of each index in another order.
+    MemoryConfig patchOrder = cachesOf(1024, 4096);
+    patchOrder.order = MemoryOrder::Patches;
+    const MemoryReport byPatch = replay(r, patchOrder);
+    EXPECT_EQ(byPatch.requestedBytes, small.requestedBytes);
+    EXPECT_EQ(byPatch.caches[std::size_t(CacheClient::Depth)].accesses(),
+              small.caches[std::size_t(CacheClient::Depth)].accesses());
 }
 
 // The bounding methods' traces are their sample tests and their nearer hits, band by band.

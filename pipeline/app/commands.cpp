@@ -13,7 +13,9 @@
 #include "backend/images/heat_map.h"
 #include "backend/images/image.h"
 #include "backend/images/image_io_module.h"
+#include "core/effects.h"
 #include "core/error.h"
+#include "core/memory_trace.h"
 #include "core/output_set.h"
 #include "core/parallel.h"
 #include "core/rasterizer_options.h"
@@ -396,8 +398,11 @@ int runRender(const JobSettings& s, const MpiContext& mpi) {
     if (frameTiming.memory) printMemoryReport(*frameTiming.memory, std::cout);
     if (frameTiming.memoryNotModelled)
         std::cout << "memory: not modelled for the " << options.visibilityMethod().name()
-                  << " method yet (it records no surface traffic); the timing above is the "
-                     "compute-only model's\n";
+                  << " method yet ("
+                  << (result.memoryTraceDropped
+                          ? "it records no surface traffic on transparent frames"
+                          : "it records no surface traffic")
+                  << "); the timing above is the compute-only model's\n";
     printEnergyReport(frameTiming.energy, std::cout);
     printRenderSummary(s, scene, options, result, ste, heatMaps.size());
     return 0;
@@ -535,26 +540,35 @@ std::vector<SweepVariant> sweepVariants(const JobSettings& s) {
 
 namespace {
 
-// A sweep compares methods: with the memory system modelled, each must be charged its traffic.
+// A sweep compares methods: with the memory system modelled, each must be charged its traffic
+// on every scene. An accumulation buffer's trace is dropped for transparent frames (render.cpp).
 void checkSweepMethodsTraceMemory(const std::vector<SweepVariant>& variants,
-                                  const std::string& hardware) {
+                                  const std::vector<SweepScene>& scenes,
+                                  const EffectOverrides& overrides, const std::string& hardware) {
+    bool transparent = false;
+    for (const SweepScene& scene : scenes)
+        transparent =
+            transparent ||
+            applyOverrides(detectEffects(scene.scene, false, false), overrides).transparency;
     std::string missing;
     int count = 0;
     SceneDesc probe;
     probe.film.width = probe.film.height = probe.film.samplesPerPixel = 1;
-    for (const SweepVariant& v : variants)
-        if (!v.method->makeMemoryTrace(probe) &&
+    for (const SweepVariant& v : variants) {
+        const std::unique_ptr<MemoryTrace> trace = v.method->makeMemoryTrace(probe);
+        if ((!trace || (transparent && trace->accumulation())) &&
             missing.find(v.method->name()) == std::string::npos) {
             missing += (missing.empty() ? "" : ", ") + std::string(v.method->name());
             ++count;
         }
+    }
     if (!missing.empty())
         throw InputError(hardware, "memory",
                          "sweep compares its methods on modelled cycles, and " + missing +
-                             (count == 1 ? " records" : " record") +
-                             " no memory traffic yet: with memory charged to some methods "
-                             "only the comparison would be unequal; drop those methods or the "
-                             "memory section");
+                             (count == 1 ? " records" : " record") + " no memory traffic" +
+                             (transparent ? " on transparent frames" : "") +
+                             " yet: with memory charged to some methods only the comparison "
+                             "would be unequal; drop those methods or the memory section");
 }
 
 }  // namespace
@@ -568,7 +582,6 @@ int runSweepCommand(const JobSettings& s) {
     o.convergedSamplesPerPixel = s.convergedSpp;
     o.render = renderOptionsOf(s);
     o.hardware = hardwareOf(s);
-    if (o.hardware.memory) checkSweepMethodsTraceMemory(o.variants, s.hardware);
     o.limits = s.limits();
     o.outputDir = s.output;
     o.progress = !s.noProgress;
@@ -584,6 +597,8 @@ int runSweepCommand(const JobSettings& s) {
                 {labels[scenes.size()], blur == 1.0f ? scene : scaleBlur(scene, blur)});
         }
     }
+    if (o.hardware.memory)
+        checkSweepMethodsTraceMemory(o.variants, scenes, o.render.overrides, s.hardware);
     for (const SweepScene& scene : scenes) {
         o.inputs.push_back({scene.scene.path, "scene"});
         for (const ObjectDesc& object : scene.scene.objects) {

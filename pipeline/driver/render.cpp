@@ -164,8 +164,10 @@ RenderResult renderScene(const SceneDesc& scene, const RenderOptions& options) {
         result.sampleSet = samples;  // where the samples lie, for depth compression
         // An accumulation buffer's transparent layers, a pass per sample index, are not
         // modelled: such a frame records nothing, and its report says memory is not modelled.
-        if (result.memoryTrace && result.transparent && result.memoryTrace->accumulation())
+        if (result.memoryTrace && result.transparent && result.memoryTrace->accumulation()) {
             result.memoryTrace.reset();
+            result.memoryTraceDropped = true;
+        }
         if (result.memoryTrace) {
             result.controlPointFetch = controlPointFetch(frontEnd);
             if (result.transparent) result.memoryTrace->setLayerSlots(options.maxLayers);

@@ -43,6 +43,9 @@ struct RenderResult {
     std::vector<PatchOps> patchOps;  // every stage's counted work per patch, for the timing model
     // The frame's surface traffic (RenderOptions::memoryTrace, methods that record it).
     std::unique_ptr<MemoryTrace> memoryTrace;
+    // The method records its traffic, but not on this frame (an accumulation buffer's
+    // transparent layers).
+    bool memoryTraceDropped = false;
     std::optional<SampleGenerator> sampleSet;  // the frame's samples, when the trace is kept
     ControlPointFetch controlPointFetch;       // what IA reads per patch, when the trace is kept
     SiteFormats formats;  // issue 35's sites: positions, and the patch method's boxes and tests

@@ -356,6 +356,23 @@ void replayPass(const MemoryTrace& trace, const SurfaceLayout& layout, const Spi
     }
 }
 
+// A pass of the trace, by its patch, region and place in the region.
+struct PassAt {
+    std::uint32_t patch, region, pass;
+};
+
+// Every pass of the trace in patch order, each patch's in region order (the screen's tiles
+// row-major, or its bands top to bottom).
+std::vector<PassAt> passesInPatchOrder(const MemoryTrace& trace) {
+    std::vector<PassAt> passes;
+    for (std::size_t r = 0; r < trace.regionCount(); ++r)
+        for (std::size_t p = 0; p < trace.region(r).passes.size(); ++p)
+            passes.push_back({trace.region(r).passes[p].patch, std::uint32_t(r), std::uint32_t(p)});
+    std::stable_sort(passes.begin(), passes.end(),
+                     [](const PassAt& a, const PassAt& b) { return a.patch < b.patch; });
+    return passes;
+}
+
 // A trace's reads and writes of each pass regrouped by sample index (a counting sort per pass,
 // once), each as its pixel's number in the region, so that index s's replay visits its own only.
 class PassesByIndex {
@@ -379,7 +396,8 @@ class PassesByIndex {
   private:
     struct Lists {
         std::vector<std::uint32_t> pixels;
-        std::vector<std::uint64_t> begin;  // list k: [begin[k], begin[k + 1])
+        std::vector<std::uint32_t> begin;  // list k: [begin[k], begin[k + 1]); a trace's lists
+                                           // are 32-bit indexed (TracedPass)
         std::span<const std::uint32_t> of(std::size_t k) const {
             return {pixels.data() + begin[k], std::size_t(begin[k + 1] - begin[k])};
         }
@@ -392,7 +410,7 @@ class PassesByIndex {
             for (std::uint32_t local : list(p)) ++out.begin[p * spp_ + local % spp_ + 1];
         for (std::size_t k = 1; k < out.begin.size(); ++k) out.begin[k] += out.begin[k - 1];
         out.pixels.resize(out.begin.back());
-        std::vector<std::uint64_t> next(out.begin.begin(), out.begin.end() - 1);
+        std::vector<std::uint32_t> next(out.begin.begin(), out.begin.end() - 1);
         for (std::size_t p = 0; p < region.passes.size(); ++p)
             for (std::uint32_t local : list(p))
                 out.pixels[next[p * spp_ + local % spp_]++] = std::uint32_t(local / spp_);
@@ -435,8 +453,9 @@ void replayIndexPass(const MemoryTrace& trace, const PassesByIndex& byIndex,
 // The accumulation buffer's frame: per sample index the front end, the passes, the resolve into
 // the accumulation buffer at `accumulation` and a fast clear; then the image (memory_model.h).
 void replayAccumulation(const MemoryTrace& trace, const SurfaceLayout& layout,
-                        const InputBuffers& inputs, std::uint64_t accumulation, std::size_t patches,
-                        std::size_t lastPatch, bool frontEnd, MemorySystem& memory) {
+                        const InputBuffers& inputs, std::uint64_t accumulation, MemoryOrder order,
+                        std::size_t patches, std::size_t lastPatch, bool frontEnd,
+                        MemorySystem& memory) {
     const auto pixelLines = [&](CacheClient client, std::uint64_t at, std::uint64_t bytes) {
         for (std::uint64_t line = memory.lineOf(at); line <= memory.lineOf(at + bytes - 1); ++line)
             memory.access(client, line, false, lastPatch);
@@ -460,12 +479,27 @@ void replayAccumulation(const MemoryTrace& trace, const SurfaceLayout& layout,
     };
     const auto pixels = std::uint64_t(trace.width()) * std::uint64_t(trace.height());
     const PassesByIndex byIndex(trace);
+    const std::vector<PassAt> passes =
+        order == MemoryOrder::Patches ? passesInPatchOrder(trace) : std::vector<PassAt>{};
     for (int s = 0; s < trace.samplesPerPixel(); ++s) {
-        if (frontEnd)
-            for (std::size_t p = 0; p < patches; ++p) inputs.read(p, memory);
-        for (std::size_t r = 0; r < trace.regionCount(); ++r)
-            for (std::size_t p = 0; p < trace.region(r).passes.size(); ++p)
-                replayIndexPass(trace, byIndex, layout, r, p, std::size_t(s), memory);
+        const auto pass = [&](const PassAt& at) {
+            replayIndexPass(trace, byIndex, layout, at.region, at.pass, std::size_t(s), memory);
+        };
+        if (order == MemoryOrder::Regions) {
+            // Sort-middle: the front end runs ahead of the bands.
+            if (frontEnd)
+                for (std::size_t p = 0; p < patches; ++p) inputs.read(p, memory);
+            for (std::uint32_t r = 0; r < trace.regionCount(); ++r)
+                for (std::uint32_t p = 0; p < trace.region(r).passes.size(); ++p) pass({0, r, p});
+        } else {
+            // A patch at a time: fetched, then its passes in band order.
+            auto next = passes.begin();
+            for (std::size_t p = 0; p < patches; ++p) {
+                if (frontEnd) inputs.read(p, memory);
+                for (; next != passes.end() && next->patch == p; ++next) pass(*next);
+            }
+            for (; next != passes.end(); ++next) pass(*next);
+        }
         // The pass's resolve: each pixel's sample read and added into the accumulation buffer.
         memory.newPass();
         for (int y = 0; y < trace.height(); ++y)
@@ -514,15 +548,7 @@ void replayPasses(const MemoryTrace& trace, const SurfaceLayout& layout, const S
     }
     // A patch at a time: fetched, its hierarchy built, then its passes in region order (the
     // screen's tiles row-major, or its bands top to bottom).
-    struct PassAt {
-        std::uint32_t patch, region, pass;
-    };
-    std::vector<PassAt> passes;
-    for (std::size_t r = 0; r < trace.regionCount(); ++r)
-        for (std::size_t p = 0; p < trace.region(r).passes.size(); ++p)
-            passes.push_back({trace.region(r).passes[p].patch, std::uint32_t(r), std::uint32_t(p)});
-    std::stable_sort(passes.begin(), passes.end(),
-                     [](const PassAt& a, const PassAt& b) { return a.patch < b.patch; });
+    const std::vector<PassAt> passes = passesInPatchOrder(trace);
     auto next = passes.begin();
     for (std::size_t p = 0; p < patches; ++p) {
         runFrontEnd(p);
@@ -623,8 +649,8 @@ MemoryReport simulateAccumulation(const MemoryTrace& trace, const MemoryConfig& 
     MemorySystem memory(config, inputs.endAddress(), patches, uncompressed, depthBlockBytes);
     inputs.markInDram(memory);
     for (int f = 0; f < frame.frames; ++f)
-        replayAccumulation(trace, layout, inputs, accumulation, patches, frame.lastPatch, f == 0,
-                           memory);
+        replayAccumulation(trace, layout, inputs, accumulation, config.order, patches,
+                           frame.lastPatch, f == 0, memory);
     memory.writeBack(frame.lastPatch);
     MemoryReport report = memory.finish();
     report.patches.resize(frame.patchCount);

@@ -46,13 +46,16 @@
 // An accumulation buffer's trace (MemoryTrace::accumulation, the interleaved method) is
 // replayed as the modelled hardware renders it: a whole frame per sample index s. Its surfaces
 // hold one sample a pixel (the same tiled layout at 1 spp), and an accumulation buffer of
-// 16 bytes a pixel follows them. For each index the front end fetches every patch again, the
-// passes run with their index-s reads and writes only, onto the pixel's one sample; then a
+// 16 bytes a pixel follows them. For each index the front end fetches every patch again and
+// the passes run with their index-s reads and writes only, onto the pixel's one sample, in the
+// memory order (`regions`: every fetch, then the bands; `patches`: each patch fetched, then its
+// passes band by band); then a
 // resolve reads each pixel's depth and record, adds its colour into the accumulation buffer (a
 // read, but for the first index, and a write), and a fast clear drops the dead depth and
 // visibility lines from every cache without writing them back. After the last index the
 // accumulation buffer is read once more and the image written. Transparent frames are not
-// replayed this way (the render records no trace for them).
+// replayed this way (the render records no trace for them), and depth is not compressed. A
+// warm repeat (FrameMemoryInputs::frames) runs every index again without the fetches.
 //
 // A patch whose hierarchy outgrows the on-chip scratch budget spills the excess: written once
 // through the LLC when the hierarchy is built (before the tiles, in patch order), read again
