@@ -317,6 +317,29 @@ class InputBuffers {
     std::uint64_t indexBase_, vertexBase_, end_;
 };
 
+// A z test's read of sample (x, y, s)'s depth.
+void readDepth(const SurfaceLayout& layout, int x, int y, int s, std::size_t patch,
+               MemorySystem& memory) {
+    memory.access(CacheClient::Depth, memory.lineOf(layout.depthAddress(x, y, s)), false, patch);
+}
+
+// A nearer hit at sample (x, y, s): its depth and the rest of its record written.
+void writeHit(const SurfaceLayout& layout, int x, int y, int s, std::size_t patch,
+              MemorySystem& memory) {
+    memory.access(CacheClient::Depth, memory.lineOf(layout.depthAddress(x, y, s)), true, patch);
+    const std::uint64_t v = layout.visibilityAddress(x, y, s);
+    for (std::uint64_t line = memory.lineOf(v); line <= memory.lineOf(v + kVisibilityBytes - 1);
+         ++line)
+        memory.access(CacheClient::Visibility, line, true, patch);
+}
+
+// What a pass's z-test reads and nearer hits ask of memory.
+void requestZTests(std::size_t reads, std::size_t writes, MemorySystem& memory) {
+    memory.request(MemoryClass::DepthReads, reads * kDepthBytes);
+    memory.request(MemoryClass::DepthWrites, writes * kDepthBytes);
+    memory.request(MemoryClass::VisibilityWrites, writes * kVisibilityBytes);
+}
+
 // One pass of the trace: its reads, writes and offers through the caches.
 void replayPass(const MemoryTrace& trace, const SurfaceLayout& layout, const Spills& spills,
                 LayerBuffer& layers, std::size_t r, std::size_t p, MemorySystem& memory) {
@@ -336,20 +359,13 @@ void replayPass(const MemoryTrace& trace, const SurfaceLayout& layout, const Spi
     const std::span<const std::uint32_t> writes = trace.writes(region, p);
     for (std::uint32_t local : reads) {
         const auto [x, y, s] = at(local);
-        memory.access(CacheClient::Depth, memory.lineOf(layout.depthAddress(x, y, s)), false,
-                      patch);
+        readDepth(layout, x, y, s, patch, memory);
     }
     for (std::uint32_t local : writes) {
         const auto [x, y, s] = at(local);
-        memory.access(CacheClient::Depth, memory.lineOf(layout.depthAddress(x, y, s)), true, patch);
-        const std::uint64_t v = layout.visibilityAddress(x, y, s);
-        for (std::uint64_t line = memory.lineOf(v); line <= memory.lineOf(v + kVisibilityBytes - 1);
-             ++line)
-            memory.access(CacheClient::Visibility, line, true, patch);
+        writeHit(layout, x, y, s, patch, memory);
     }
-    memory.request(MemoryClass::DepthReads, reads.size() * kDepthBytes);
-    memory.request(MemoryClass::DepthWrites, writes.size() * kDepthBytes);
-    memory.request(MemoryClass::VisibilityWrites, writes.size() * kVisibilityBytes);
+    requestZTests(reads.size(), writes.size(), memory);
     for (std::uint32_t offer : trace.offers(region, p)) {
         const auto [x, y, s] = at(offer & ~kAppended);
         layers.offer(x, y, s, (offer & kAppended) != 0, patch, memory);
@@ -428,26 +444,14 @@ void replayIndexPass(const MemoryTrace& trace, const PassesByIndex& byIndex,
     const RegionTrace& region = trace.region(r);
     const auto stride = std::uint32_t(region.stride);
     const std::size_t patch = region.passes[p].patch;
-    const auto depthLine = [&](std::uint32_t pixel) {
-        const int x = region.x0 + int(pixel % stride), y = region.y0 + int(pixel / stride);
-        return memory.lineOf(layout.depthAddress(x, y, 0));
-    };
+    const auto x = [&](std::uint32_t pixel) { return region.x0 + int(pixel % stride); };
+    const auto y = [&](std::uint32_t pixel) { return region.y0 + int(pixel / stride); };
     memory.newPass();
     const std::span<const std::uint32_t> reads = byIndex.reads(r, p, s);
     const std::span<const std::uint32_t> writes = byIndex.writes(r, p, s);
-    for (std::uint32_t pixel : reads)
-        memory.access(CacheClient::Depth, depthLine(pixel), false, patch);
-    for (std::uint32_t pixel : writes) {
-        memory.access(CacheClient::Depth, depthLine(pixel), true, patch);
-        const std::uint64_t v = layout.visibilityAddress(region.x0 + int(pixel % stride),
-                                                         region.y0 + int(pixel / stride), 0);
-        for (std::uint64_t line = memory.lineOf(v); line <= memory.lineOf(v + kVisibilityBytes - 1);
-             ++line)
-            memory.access(CacheClient::Visibility, line, true, patch);
-    }
-    memory.request(MemoryClass::DepthReads, reads.size() * kDepthBytes);
-    memory.request(MemoryClass::DepthWrites, writes.size() * kDepthBytes);
-    memory.request(MemoryClass::VisibilityWrites, writes.size() * kVisibilityBytes);
+    for (std::uint32_t pixel : reads) readDepth(layout, x(pixel), y(pixel), 0, patch, memory);
+    for (std::uint32_t pixel : writes) writeHit(layout, x(pixel), y(pixel), 0, patch, memory);
+    requestZTests(reads.size(), writes.size(), memory);
 }
 
 // The accumulation buffer's frame: per sample index the front end, the passes, the resolve into
