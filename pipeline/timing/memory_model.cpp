@@ -635,6 +635,17 @@ std::vector<std::uint64_t> hierarchySpills(const std::vector<PatchOps>& patches,
 
 namespace {
 
+// Every dirty line written back (charged to the frame's last patch), and the report.
+MemoryReport finishReplay(const MemoryTrace& trace, const MemoryConfig& config,
+                          const FrameMemoryInputs& frame, MemorySystem& memory) {
+    memory.writeBack(frame.lastPatch);
+    MemoryReport report = memory.finish();
+    report.patches.resize(frame.patchCount);
+    report.traceBytes = trace.bytes();
+    report.config = config;
+    return report;
+}
+
 // The accumulation buffer's frame (memory_model.h): surfaces at 1 spp, the accumulation buffer
 // after them, then the scene's buffers; no layers (transparent frames are not recorded), no
 // spills (the bounding methods build no hierarchy) and no depth compression.
@@ -655,12 +666,7 @@ MemoryReport simulateAccumulation(const MemoryTrace& trace, const MemoryConfig& 
     for (int f = 0; f < frame.frames; ++f)
         replayAccumulation(trace, layout, inputs, accumulation, config.order, patches,
                            frame.lastPatch, f == 0, memory);
-    memory.writeBack(frame.lastPatch);
-    MemoryReport report = memory.finish();
-    report.patches.resize(frame.patchCount);
-    report.traceBytes = trace.bytes();
-    report.config = config;
-    return report;
+    return finishReplay(trace, config, frame, memory);
 }
 
 }  // namespace
@@ -682,12 +688,7 @@ MemoryReport simulateMemory(const MemoryTrace& trace, const MemoryConfig& config
     for (int f = 0; f < frame.frames; ++f)
         replayPasses(trace, layout, spills, inputs, layers, config.order, patches, f == 0, memory);
     replayResolve(trace, layout, layers, frame.lastPatch, memory);
-    memory.writeBack(frame.lastPatch);
-    MemoryReport report = memory.finish();
-    report.patches.resize(frame.patchCount);
-    report.traceBytes = trace.bytes();
-    report.config = config;
-    return report;
+    return finishReplay(trace, config, frame, memory);
 }
 
 nlohmann::ordered_json memoryReportJson(const MemoryReport& r) {
