@@ -66,6 +66,7 @@ std::uint64_t MemoryTrace::bytes() const {
     for (const RegionTrace& r : regions_)
         n += r.passes.size() * sizeof(TracedPass) +
              (r.reads.size() + r.writes.size() + r.offers.size()) * sizeof(std::uint32_t);
+    if (imagePasses_) n += imagePasses_->bytes();
     return n;
 }
 

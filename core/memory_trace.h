@@ -24,12 +24,16 @@
 //
 // The trace holds no addresses: the surface layout is the memory model's, so one trace serves
 // every layout and cache size a hardware file or an `explore` grid describes. It takes 4 bytes
-// per sample read or written by a pass and per offer, and 16 per pass.
+// per sample read or written by a pass and per offer, and 16 per pass. An image-space method
+// adds its full-screen passes after the resolve (core/image_pass_trace.h).
 
 #include <cstddef>
 #include <cstdint>
+#include <optional>
 #include <span>
 #include <vector>
+
+#include "core/image_pass_trace.h"
 
 namespace patchsim {
 
@@ -67,6 +71,10 @@ class MemoryTrace {
     // index, each time with that index's samples only (pipeline/timing/memory_model.h).
     bool accumulation() const { return accumulation_; }
     void setAccumulation(bool accumulation) { accumulation_ = accumulation; }
+    // The image-space passes after the resolve (core/image_pass_trace.h), for a method that
+    // runs them; null until started.
+    ImagePassTrace& startImagePasses() { return imagePasses_.emplace(width_, height_); }
+    const ImagePassTrace* imagePasses() const { return imagePasses_ ? &*imagePasses_ : nullptr; }
 
     std::size_t regionCount() const { return regions_.size(); }
     RegionTrace& region(std::size_t index) { return regions_[index]; }
@@ -95,6 +103,7 @@ class MemoryTrace {
     int width_, height_, spp_, layerSlots_ = 0;
     bool accumulation_ = false;
     std::vector<RegionTrace> regions_;
+    std::optional<ImagePassTrace> imagePasses_;
 };
 
 // Records one region's passes (one worker per region, so no locking). The rasterizer names each

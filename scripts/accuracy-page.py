@@ -32,6 +32,8 @@ test suite runs this). Blocks:
   memory-interleaved  docs/accuracy/memory/interleaved_with_memory.csv and
              interleaved_compute_only.csv: the accumulation buffer with memory charged and
              without, beside the exact methods' charged cycles from with_memory.csv
+  memory-image-space  docs/accuracy/memory/image_space_with_memory.csv and
+             image_space_compute_only.csv: the post-process and the hybrid the same way
   formats    docs/accuracy/formats/results.csv, a `sweep --vary node-format=... --vary
              plane-format=... --vary vertex-format=...` run: each site in each format with the
              others in fp32, every site in one format, and the Pareto front in error against
@@ -352,27 +354,40 @@ def memory_block():
     return "\n".join(out)
 
 
-def memory_interleaved_block():
+def memory_against_exact(stem):
+    """A method's sweep with memory charged and without (docs/accuracy/memory/STEM_*.csv), beside
+    the exact methods' charged cycles from with_memory.csv."""
     folder = os.path.join(ROOT, "docs", "accuracy", "memory")
-    charged_path = os.path.join(folder, "interleaved_with_memory.csv")
-    free_path = os.path.join(folder, "interleaved_compute_only.csv")
+    charged_path = os.path.join(folder, f"{stem}_with_memory.csv")
+    free_path = os.path.join(folder, f"{stem}_compute_only.csv")
     exact_path = os.path.join(folder, "with_memory.csv")
     charged, free = by_key(read_csv(charged_path)), by_key(read_csv(free_path))
     exact = by_key(read_csv(exact_path))
+    named = len({k[1] for k in charged}) > 1
     out = [source_line(charged_path, free_path, exact_path), "",
-           "| scene | spp | PSNR | cycles, compute only | cycles, memory charged | ratio "
+           "| scene | " + ("method | " if named else "") +
+           "spp | PSNR | cycles, compute only | cycles, memory charged | ratio "
            "| DRAM bytes | patch, memory charged | interval, memory charged |",
-           "|---|---|---|---|---|---|---|---|---|"]
-    for key in sorted(charged, key=lambda k: (k[0], int(k[2]))):
+           "|---|" + ("---|" if named else "") + "---|---|---|---|---|---|---|---|"]
+    for key in sorted(charged, key=lambda k: (k[0], k[1], int(k[2]))):
         scene, method, spp = key
         r, f = charged[key], free[key]
         ratio = float(r["modelled_cycles"]) / float(f["modelled_cycles"])
         others = [mega(exact[(scene, m, spp)]["modelled_cycles"]) if (scene, m, spp) in exact
                   else "" for m in ("patch", "interval")]
-        out.append(f"| {scene} | {spp} | {float(r['psnr']):.1f} | {mega(f['modelled_cycles'])} | "
+        out.append(f"| {scene} | " + (f"{method} | " if named else "") +
+                   f"{spp} | {float(r['psnr']):.1f} | {mega(f['modelled_cycles'])} | "
                    f"{mega(r['modelled_cycles'])} | {ratio:.2f} | "
                    f"{float(r['dram_bytes']) / 1e6:.1f} MB | {others[0]} | {others[1]} |")
     return "\n".join(out)
+
+
+def memory_interleaved_block():
+    return memory_against_exact("interleaved")
+
+
+def memory_image_space_block():
+    return memory_against_exact("image_space")
 
 
 SITES = ["node-format", "plane-format", "vertex-format"]
@@ -423,6 +438,7 @@ BLOCKS = {"settings": settings_block, "crossover": crossover_block,
           "motion-defocus": motion_defocus_block, "blur-levels": blur_levels_block,
           "cycles": cycles_block, "approximate": approximate_block,
           "memory": memory_block, "memory-interleaved": memory_interleaved_block,
+          "memory-image-space": memory_image_space_block,
           "formats": formats_block}
 
 

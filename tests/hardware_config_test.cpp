@@ -134,12 +134,13 @@ TEST(HardwareConfig, TheMemorySectionIsReadAndOptional) {
 }
 
 // The vertex input cache may be left out (ATTILA's 32 lines at the memory's line size, 4-way),
-// and the layer cache (the visibility cache's geometry).
-TEST(HardwareConfig, AMemorySectionWithoutTheInputAndLayerCachesGetsDefaults) {
+// and the layer and image caches (the visibility cache's geometry).
+TEST(HardwareConfig, AMemorySectionWithoutTheInputLayerAndImageCachesGetsDefaults) {
     nlohmann::json file =
         nlohmann::json::parse(readTextFile(test::sourcePath("pipeline/hw/memory.json")));
     file["memory"]["caches"].erase("vertex_input");
     file["memory"]["caches"].erase("layers");
+    file["memory"]["caches"].erase("image");
     for (const char* cache : {"depth", "visibility", "llc"})
         file["memory"]["caches"][cache]["line_bytes"] = 128;
     file["memory"]["caches"]["visibility"]["size_bytes"] = 32768;
@@ -148,6 +149,10 @@ TEST(HardwareConfig, AMemorySectionWithoutTheInputAndLayerCachesGetsDefaults) {
     EXPECT_EQ(layers.geometry.sizeBytes, 32768u);
     EXPECT_EQ(layers.geometry.lineBytes, 128u);
     EXPECT_EQ(layers.linesPerClock, c.memory->cache(CacheClient::Visibility).linesPerClock);
+    const CacheConfig& image = c.memory->cache(CacheClient::Image);  // like the layer cache
+    EXPECT_EQ(image.geometry.sizeBytes, 32768u);
+    EXPECT_EQ(image.geometry.lineBytes, 128u);
+    EXPECT_FALSE(c.memory->cacheGiven[std::size_t(CacheClient::Image)]);
     const CacheConfig& input = c.memory->cache(CacheClient::VertexInput);
     EXPECT_EQ(input.geometry.sizeBytes, 32u * 128);
     EXPECT_EQ(input.geometry.lineBytes, 128u);
@@ -155,6 +160,7 @@ TEST(HardwareConfig, AMemorySectionWithoutTheInputAndLayerCachesGetsDefaults) {
     EXPECT_EQ(input.linesPerClock, 1);
     const HardwareConfig given = readHardwareConfig(test::sourcePath("pipeline/hw/memory.json"));
     EXPECT_EQ(given.memory->cache(CacheClient::VertexInput).geometry.sizeBytes, 2048u);
+    EXPECT_EQ(given.memory->cache(CacheClient::Image).linesPerClock, 16);
 }
 
 std::string memoryErrorOf(const std::string& edit) {

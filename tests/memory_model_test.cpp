@@ -54,6 +54,7 @@ MemoryConfig cachesOf(std::uint64_t depthBytes, std::uint64_t llcBytes) {
     m.cache(CacheClient::Depth).geometry = {depthBytes, 64, 4, Replacement::Lru};
     m.cache(CacheClient::Visibility).geometry = {depthBytes, 64, 4, Replacement::Lru};
     m.cache(CacheClient::VertexInput).geometry = {2048, 64, 4, Replacement::Lru};
+    m.cache(CacheClient::Image).geometry = {depthBytes, 64, 4, Replacement::Lru};
     m.cache(CacheClient::LastLevel).geometry = {llcBytes, 64, 16, Replacement::Lru};
     return m;
 }
@@ -135,7 +136,9 @@ TEST(MemoryModel, AFullScreenStaticFrameWritesEachSurfaceByTheFormula) {
 TEST(MemoryModel, EveryTracingMethodWritesTheQuadsSurfacesOnce) {
     const int w = 64, h = 48, spp = 4;
     const std::uint64_t samples = std::uint64_t(w) * h * spp, pixels = std::uint64_t(w) * h;
-    for (const char* method : {"patch", "triangle-bbox", "interval"}) {
+    // The image-space methods' sharp frame is the patch rasterizer's; a still frame runs no
+    // filter, so they record no image-space pass.
+    for (const char* method : {"patch", "triangle-bbox", "interval", "postprocess", "hybrid"}) {
         const RenderResult r = renderTraced(fullScreenQuad(w, h, spp), 2, method);
         ASSERT_TRUE(r.memoryTrace) << method;
         EXPECT_EQ(r.memoryTrace->samplesWritten(), samples) << method;
@@ -143,6 +146,7 @@ TEST(MemoryModel, EveryTracingMethodWritesTheQuadsSurfacesOnce) {
         const MemoryReport m = replay(r, cachesOf(4096, 4u << 20));
         EXPECT_EQ(m.dramReadBytes, 0u) << method;
         EXPECT_EQ(m.dramWriteBytes, samples * 32 + pixels * 8) << method;
+        EXPECT_FALSE(r.memoryTrace->imagePasses()) << method;
     }
     // The t-fragment method records nothing yet, and its frame says so.
     const RenderResult tfragment = renderTraced(fullScreenQuad(16, 16, 2), 1, "tfragment");
@@ -150,6 +154,82 @@ TEST(MemoryModel, EveryTracingMethodWritesTheQuadsSurfacesOnce) {
     HardwareConfig hw = defaultHardwareConfig();
     hw.memory = cachesOf(4096, 16384);
     EXPECT_TRUE(timeFrame(tfragment, hw).memoryNotModelled);
+}
+
+// Image-space passes, worked by hand on a bare 16 x 16 trace (no visibility passes): one pass
+// reads the resolved image (8 bytes a pixel) and writes a plane of 4 bytes a pixel. Through the
+// image cache, 32 lines read and 16 written; with an LLC that holds the frame the image is read
+// where the resolve left it, and DRAM receives the image and the plane once each.
+TEST(MemoryModel, ImageSpacePassesGoThroughTheImageCache) {
+    MemoryTrace trace = MemoryTrace::tiles(16, 16, 16, 1);
+    ImagePassTrace& passes = trace.startImagePasses();
+    const std::uint16_t plane = passes.addPlane("copy", 256, 4);
+    passes.beginPass("copy");
+    for (std::size_t i = 0; i < 256; ++i) {
+        passes.read(ImagePassTrace::resolvedImage(), i);
+        passes.write(plane, i);
+    }
+    const MemoryReport m = simulateMemory(trace, cachesOf(4096, 4u << 20), {1, 0, {}});
+    EXPECT_EQ(m.requested(MemoryClass::ImagePassReads), 256u * 8);
+    EXPECT_EQ(m.requested(MemoryClass::ImagePassWrites), 256u * 4);
+    const CacheStats& image = m.caches[std::size_t(CacheClient::Image)];
+    EXPECT_EQ(image.reads, 32u);
+    EXPECT_EQ(image.writes, 16u);
+    EXPECT_EQ(image.writebacks, 16u);
+    EXPECT_EQ(m.dramReadBytes, 0u);
+    EXPECT_EQ(m.dramWriteBytes, 256u * (8 + 4));
+    EXPECT_EQ(m.patches[0].lineAccesses[std::size_t(CacheClient::Image)], 48u);
+    // An LLC of 16 lines lets the image go to DRAM before the pass, which reads it back.
+    const MemoryReport small = simulateMemory(trace, cachesOf(4096, 1024), {1, 0, {}});
+    EXPECT_GT(small.dramReadBytes, 0u);
+    EXPECT_LE(small.dramReadBytes, 256u * 8);
+    EXPECT_EQ(small.dramWriteBytes, 256u * (8 + 4));
+}
+
+// The post-process and the hybrid charge their sharp frame and their full-screen passes; the
+// passes are the filter's own (the gather's taps are its gather samples; the hybrid's reveal
+// reads and writes each masked pixel once), through the image cache, at the frame's last patch.
+TEST(MemoryModel, TheImageSpaceMethodsChargeTheirFullScreenPasses) {
+    SceneDesc scene = readSceneFile(test::sourcePath("scenes/motion.json"));
+    scene.film.width = 64;
+    scene.film.height = 48;
+    scene.film.samplesPerPixel = 4;
+    for (const char* method : {"postprocess", "hybrid"}) {
+        const RenderResult r = renderTraced(scene, 2, method);
+        const CounterValues c = CounterRegistry::instance().snapshot();
+        ASSERT_TRUE(r.memoryTrace) << method;
+        ASSERT_TRUE(r.memoryTrace->imagePasses()) << method;
+        EXPECT_GT(r.memoryTrace->samplesWritten(), 0u) << method;
+        const ImagePassTrace& passes = *r.memoryTrace->imagePasses();
+        std::uint64_t reads = 0, writes = 0, taps = 0;
+        for (const ImagePass& pass : passes.passes()) {
+            reads += passes.passBytes(pass, false);
+            writes += passes.passBytes(pass, true);
+            if (pass.name != "gather") continue;
+            for (std::uint16_t planes : pass.planes)
+                taps += (planes & ImagePassTrace::resolvedImage()) && (planes & 2u);  // 2: depth
+        }
+        EXPECT_EQ(taps, std::uint64_t(c.byName("PP/Gather samples"))) << method;
+        const MemoryReport m = replay(r, cachesOf(4096, 1u << 20));
+        EXPECT_EQ(m.requested(MemoryClass::ImagePassReads), reads) << method;
+        EXPECT_EQ(m.requested(MemoryClass::ImagePassWrites), writes) << method;
+        const std::uint64_t imageAccesses = m.caches[std::size_t(CacheClient::Image)].accesses();
+        EXPECT_GT(imageAccesses, 0u) << method;
+        EXPECT_EQ(m.patches.back().lineAccesses[std::size_t(CacheClient::Image)], imageAccesses)
+            << method;
+        if (std::string(method) != "hybrid") continue;
+        const auto reveal = std::find_if(passes.passes().begin(), passes.passes().end(),
+                                         [](const ImagePass& p) { return p.name == "ray reveal"; });
+        ASSERT_NE(reveal, passes.passes().end());
+        EXPECT_GT(c.byName("HY/Masked pixels"), 0);
+        EXPECT_EQ(reveal->elements.size(), 2 * std::uint64_t(c.byName("HY/Masked pixels")));
+    }
+    // Sample reprojection records nothing yet (its second frame and its passes), and says so.
+    const RenderResult reprojection = renderTraced(scene, 1, "reprojection");
+    EXPECT_FALSE(reprojection.memoryTrace);
+    HardwareConfig hw = defaultHardwareConfig();
+    hw.memory = cachesOf(4096, 16384);
+    EXPECT_TRUE(timeFrame(reprojection, hw).memoryNotModelled);
 }
 
 // The accumulation buffer (interleaved) renders a frame per sample index onto 1-spp surfaces:

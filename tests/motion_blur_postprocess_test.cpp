@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 
@@ -72,6 +73,49 @@ TEST(Postprocess, AMovingSquareBlursAlongItsMotionOnly) {
     EXPECT_NEAR(out.get(40, 17).x, background, 0.02f);  // just above: sampled along x only
     EXPECT_GT(work.blurredPixels, 0);
     EXPECT_EQ(work.gatherSamples, work.blurredPixels * (o.samples - 1));
+}
+
+// The trace is the filter's own accesses, pass by pass, worked out for the moving square: 80 x 60
+// pixels in tiles of 10 (8 x 6 tiles).
+TEST(Postprocess, ItsTraceIsTheFiltersReadsAndWrites) {
+    const ResolvedFrame f = squareFrame(80, 60, 30, 50, 20, 40, Vec2(16, 0));
+    PostprocessOptions o;
+    o.tileSize = 10;
+    ImagePassTrace trace(80, 60);
+    const PostprocessPlanes planes = recordResolveAovs(trace, 80, 60);
+    PostprocessWork work, untraced;
+    const Image out = reconstructMotionBlur(f, 100.0f, o, work, nullptr, planes);
+    EXPECT_EQ(out.rgb, reconstructMotionBlur(f, 100.0f, o, untraced).rgb);
+    const std::uint64_t pixels = 80 * 60, tiles = 8 * 6;
+    ASSERT_EQ(trace.passes().size(), 4u);
+    const auto count = [](const ImagePass& pass, std::uint16_t mask) {
+        return std::uint64_t(std::count(pass.planes.begin(), pass.planes.end(), mask));
+    };
+    const ImagePass& aovs = trace.passes()[0];
+    EXPECT_EQ(aovs.name, "resolve AOVs");
+    EXPECT_EQ(count(aovs, std::uint16_t(planes.depth | planes.velocity | kImageWrite)), pixels);
+    const ImagePass& tileMax = trace.passes()[1];
+    EXPECT_EQ(tileMax.name, "TileMax");
+    EXPECT_EQ(count(tileMax, planes.velocity), pixels);
+    EXPECT_EQ(tileMax.elements.size(), pixels + tiles);  // each tile's maximum written once
+    // NeighbourMax: each tile reads the tiles of its 3 x 3 neighbourhood that exist.
+    const ImagePass& neighbourMax = trace.passes()[2];
+    EXPECT_EQ(neighbourMax.elements.size(), (3u * 8 - 2) * (3u * 6 - 2) + tiles);
+    EXPECT_EQ(trace.passBytes(neighbourMax, false), (3u * 8 - 2) * (3u * 6 - 2) * 4);
+    EXPECT_EQ(trace.passBytes(neighbourMax, true), tiles * 4);
+    // The gather: every pixel's NeighbourMax (4 bytes) and colour (8); a blurred pixel's depth
+    // and velocity (8); each tap's colour, depth and velocity (16); every output pixel (8).
+    const ImagePass& gather = trace.passes()[3];
+    EXPECT_EQ(gather.name, "gather");
+    const auto blurred = std::uint64_t(work.blurredPixels),
+               taps = std::uint64_t(work.gatherSamples);
+    ASSERT_GT(blurred, 0u);
+    const auto tap =
+        std::uint16_t(ImagePassTrace::resolvedImage() | planes.depth | planes.velocity);
+    EXPECT_EQ(count(gather, tap), taps);
+    EXPECT_EQ(count(gather, std::uint16_t(planes.depth | planes.velocity)), blurred);
+    EXPECT_EQ(trace.passBytes(gather, false), pixels * 12 + blurred * 8 + taps * 16);
+    EXPECT_EQ(trace.passBytes(gather, true), pixels * 8);
 }
 
 SceneDesc small(const char* path) {

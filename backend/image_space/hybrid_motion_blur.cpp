@@ -100,44 +100,99 @@ float edgeMeasure(const GBuffer& g, int x, int y) {
     return std::clamp(1.0f - 1.0f / (xs + 1.0f), 0.0f, 1.0f);
 }
 
+// The hybrid's planes in a trace (0: not recorded).
+struct HybridPlanes {
+    PostprocessPlanes post;
+    std::uint16_t object = 0, normal = 0, edge = 0, mask = 0, revealed = 0;
+};
+
+HybridPlanes declareHybridPlanes(ImagePassTrace* trace, int width, int height) {
+    HybridPlanes p;
+    if (!trace) return p;
+    const auto pixels = std::uint64_t(width) * std::uint64_t(height);
+    p.post = recordResolveAovs(*trace, width, height);
+    p.object = trace->addPlane("object", pixels, 4);
+    p.normal = trace->addPlane("normal", pixels, 8);  // camera space, three fp16 and a pad
+    p.edge = trace->addPlane("edge", pixels, 1);
+    p.mask = trace->addPlane("ray mask", pixels, 1);
+    p.revealed = trace->addPlane("revealed", pixels, kResolvedImagePixelBytes);
+    trace->beginPass("resolve object and normal");
+    for (std::uint64_t i = 0; i < pixels; ++i) trace->write(std::uint16_t(p.object | p.normal), i);
+    p.post.revealed = std::uint16_t(p.object | p.revealed);  // the composite's reads of a tap
+    return p;
+}
+
+// The edge test's 5 x 5 depths and normals around (x, y), clamped at the border, in its order.
+void recordEdgeReads(ImagePassTrace& trace, const HybridPlanes& p, const GBuffer& g, int x, int y) {
+    for (int j = -2; j <= 2; ++j)
+        for (int i = -2; i <= 2; ++i)
+            trace.read(
+                std::uint16_t(p.post.depth | p.normal),
+                g.index(std::clamp(x + i, 0, g.width - 1), std::clamp(y + j, 0, g.height - 1)));
+}
+
+// Whether pixel (x, y) is a foreground edge its motion uncovers (steps 1 and 2).
+std::uint8_t edgeAt(const ResolvedFrame& sharp, const GBuffer& g, const HybridOptions& o,
+                    HybridWork& work, int x, int y, const HybridPlanes& planes) {
+    ImagePassTrace* trace = planes.post.trace;
+    const int w = g.width, h = g.height;
+    const std::size_t i = g.index(x, y);
+    const Vec2 motion(sharp.motionX[i], sharp.motionY[i]);
+    if (trace) trace->read(std::uint16_t(planes.object | planes.post.velocity), i);
+    if (g.object[i] < 0 || glm::length(motion) <= 0.5f) return 0;
+    // Clamped as floats: a motion AOV can be huge near the camera plane.
+    const int nx = int(std::lround(std::clamp(float(x) + motion.x, 0.0f, float(w - 1))));
+    const int ny = int(std::lround(std::clamp(float(y) + motion.y, 0.0f, float(h - 1))));
+    const std::size_t next = g.index(nx, ny);
+    ++work.maskReads;
+    if (trace) {
+        trace->read(planes.post.depth, i);
+        trace->read(std::uint16_t(planes.object | planes.post.depth), next);
+    }
+    if (g.object[next] == g.object[i] || !(g.depth[next] - g.depth[i] > o.post.softZExtent))
+        return 0;
+    ++work.candidates;
+    work.maskReads += 25;
+    if (trace) recordEdgeReads(*trace, planes, g, x, y);
+    if (edgeMeasure(g, x, y) <= o.edgeThreshold) return 0;
+    ++work.edgePixels;
+    return 1;
+}
+
 std::vector<std::uint8_t> rayMask(const ResolvedFrame& sharp, const GBuffer& g,
-                                  const HybridOptions& o, HybridWork& work) {
+                                  const HybridOptions& o, HybridWork& work,
+                                  const HybridPlanes& planes) {
+    ImagePassTrace* trace = planes.post.trace;
+    if (trace) trace->beginPass("edge");
     const int w = g.width, h = g.height;
     const float k = float(std::max(1, o.post.tileSize));
     std::vector<std::uint8_t> edge(std::size_t(w) * std::size_t(h), 0), mask(edge.size(), 0);
     for (int y = 0; y < h; ++y) {
         for (int x = 0; x < w; ++x) {
             const std::size_t i = g.index(x, y);
-            const Vec2 motion(sharp.motionX[i], sharp.motionY[i]);
-            if (g.object[i] < 0 || glm::length(motion) <= 0.5f) continue;
-            // Clamped as floats: a motion AOV can be huge near the camera plane.
-            const int nx = int(std::lround(std::clamp(float(x) + motion.x, 0.0f, float(w - 1))));
-            const int ny = int(std::lround(std::clamp(float(y) + motion.y, 0.0f, float(h - 1))));
-            const std::size_t next = g.index(nx, ny);
-            ++work.maskReads;
-            if (g.object[next] == g.object[i] || !(g.depth[next] - g.depth[i] > o.post.softZExtent))
-                continue;
-            ++work.candidates;
-            work.maskReads += 25;
-            if (edgeMeasure(g, x, y) <= o.edgeThreshold) continue;
-            ++work.edgePixels;
-            edge[i] = 1;
+            edge[i] = edgeAt(sharp, g, o, work, x, y, planes);
+            if (trace) trace->write(planes.edge, i);
         }
     }
+    if (trace) trace->beginPass("ray mask");
     const int S = std::max(3, o.post.samples | 1);
     for (int y = 0; y < h; ++y) {
         for (int x = 0; x < w; ++x) {
             const std::size_t i = g.index(x, y);
             const Vec2 v = pixelVelocity(sharp, i, k);
-            if (glm::length(v) <= 0.25f) continue;
-            for (int s = 0; s < S && !mask[i]; ++s) {
-                const float t = -1.0f + 2.0f * float(s) / float(S - 1);
-                const int sx = std::clamp(int(std::lround(float(x) + v.x * t)), 0, w - 1);
-                const int sy = std::clamp(int(std::lround(float(y) + v.y * t)), 0, h - 1);
-                ++work.maskReads;
-                mask[i] = edge[g.index(sx, sy)];
+            if (trace) trace->read(planes.post.velocity, i);
+            if (glm::length(v) > 0.25f) {
+                for (int s = 0; s < S && !mask[i]; ++s) {
+                    const float t = -1.0f + 2.0f * float(s) / float(S - 1);
+                    const int sx = std::clamp(int(std::lround(float(x) + v.x * t)), 0, w - 1);
+                    const int sy = std::clamp(int(std::lround(float(y) + v.y * t)), 0, h - 1);
+                    ++work.maskReads;
+                    mask[i] = edge[g.index(sx, sy)];
+                    if (trace) trace->read(planes.edge, g.index(sx, sy));
+                }
+                work.maskedPixels += mask[i];
             }
-            work.maskedPixels += mask[i];
+            if (trace) trace->write(planes.mask, i);
         }
     }
     return mask;
@@ -231,17 +286,23 @@ PATCHSIM_WORK_DEFINE(HybridWork, HybridCounters, hybridCounters, PATCHSIM_HYBRID
 
 Image hybridMotionBlur(const ShadingContext& c, const ResolvedFrame& sharp,
                        const VisibilityBuffer& vis, const HybridOptions& o, PostprocessWork& post,
-                       HybridWork& work) {
+                       HybridWork& work, ImagePassTrace* trace) {
     const GBuffer g = gBuffer(c, sharp, vis);
-    const std::vector<std::uint8_t> mask = rayMask(sharp, g, o, work);
+    const HybridPlanes planes = declareHybridPlanes(trace, g.width, g.height);
+    const std::vector<std::uint8_t> mask = rayMask(sharp, g, o, work, planes);
     const RevealScene scene(*c.meshes);
     RevealedBackground revealed{std::vector<Vec3>(mask.size(), kBackground),
                                 std::vector<std::uint8_t>(mask.size(), 0), g.object};
     const Camera& camera = *c.camera;
+    if (trace) trace->beginPass("ray reveal");
     for (int y = 0; y < g.height; ++y) {
         for (int x = 0; x < g.width; ++x) {
             const std::size_t i = g.index(x, y);
             if (!mask[i]) continue;
+            if (trace) {  // what the ray starts from, and what it reveals (or nothing)
+                trace->read(std::uint16_t(planes.post.depth | planes.object), i);
+                trace->write(planes.revealed, i);
+            }
             // The first ray's hit is the sharp frame's; the second starts just behind it.
             work.rays += 2;
             Ray ray =
@@ -255,7 +316,7 @@ Image hybridMotionBlur(const ShadingContext& c, const ResolvedFrame& sharp,
             revealed.color[i] = shadeFragment(c, interpolateAttributes(c, behind), 0.5f);
         }
     }
-    return reconstructMotionBlur(sharp, camera.farPlane(), o.post, post, &revealed);
+    return reconstructMotionBlur(sharp, camera.farPlane(), o.post, post, &revealed, planes.post);
 }
 
 }  // namespace patchsim

@@ -43,29 +43,49 @@ Velocities pixelVelocities(const ResolvedFrame& f, float k) {
 }
 
 // The longest velocity of each tile, then of each tile's 3 x 3 neighbourhood.
+// The tile planes' masks in a trace (0: not recorded).
+struct TilePlanes {
+    ImagePassTrace* trace = nullptr;
+    std::uint16_t velocity = 0, tileMax = 0, neighbourMax = 0;
+};
+
 std::vector<Vec2> neighbourMax(const Velocities& v, int k, int tilesX, int tilesY,
-                               PostprocessWork& work) {
+                               PostprocessWork& work, const TilePlanes& planes) {
+    ImagePassTrace* trace = planes.trace;
+    if (trace) trace->beginPass("TileMax");
     std::vector<Vec2> tileMax(std::size_t(tilesX) * std::size_t(tilesY), Vec2(0));
     for (int y = 0; y < v.height; ++y) {
         for (int x = 0; x < v.width; ++x) {
             Vec2& m = tileMax[std::size_t(y / k) * std::size_t(tilesX) + std::size_t(x / k)];
             const Vec2 p = v.at(x, y);
             if (glm::dot(p, p) > glm::dot(m, m)) m = p;
+            if (trace)
+                trace->read(planes.velocity,
+                            std::size_t(y) * std::size_t(v.width) + std::size_t(x));
         }
+        if (trace && (y % k == k - 1 || y == v.height - 1))
+            for (int tx = 0; tx < tilesX; ++tx)
+                trace->write(planes.tileMax,
+                             std::size_t(y / k) * std::size_t(tilesX) + std::size_t(tx));
     }
     work.pixels += std::int64_t(v.width) * v.height;
     std::vector<Vec2> out(tileMax.size(), Vec2(0));
+    if (trace) trace->beginPass("NeighbourMax");
     for (int ty = 0; ty < tilesY; ++ty) {
         for (int tx = 0; tx < tilesX; ++tx) {
-            Vec2& m = out[std::size_t(ty) * std::size_t(tilesX) + std::size_t(tx)];
+            const std::size_t tile = std::size_t(ty) * std::size_t(tilesX) + std::size_t(tx);
+            Vec2& m = out[tile];
             for (int dy = -1; dy <= 1; ++dy) {
                 for (int dx = -1; dx <= 1; ++dx) {
                     const int nx = tx + dx, ny = ty + dy;
                     if (nx < 0 || ny < 0 || nx >= tilesX || ny >= tilesY) continue;
-                    const Vec2 p = tileMax[std::size_t(ny) * std::size_t(tilesX) + std::size_t(nx)];
+                    const std::size_t at = std::size_t(ny) * std::size_t(tilesX) + std::size_t(nx);
+                    const Vec2 p = tileMax[at];
                     if (glm::dot(p, p) > glm::dot(m, m)) m = p;
+                    if (trace) trace->read(planes.tileMax, at);
                 }
             }
+            if (trace) trace->write(planes.neighbourMax, tile);
         }
     }
     work.tiles += 2 * std::int64_t(tileMax.size());
@@ -149,12 +169,36 @@ Vec2 pixelVelocity(const ResolvedFrame& f, std::size_t i, float k) {
 PATCHSIM_WORK_DEFINE(PostprocessWork, PostprocessCounters, postprocessCounters,
                      PATCHSIM_POSTPROCESS_WORK)
 
+PostprocessPlanes recordResolveAovs(ImagePassTrace& trace, int width, int height) {
+    const auto pixels = std::uint64_t(width) * std::uint64_t(height);
+    PostprocessPlanes planes{&trace, trace.addPlane("depth", pixels, kPlaneDepthBytes),
+                             trace.addPlane("velocity", pixels, kPlaneVelocityBytes), 0};
+    trace.beginPass("resolve AOVs");
+    for (std::uint64_t i = 0; i < pixels; ++i)
+        trace.write(std::uint16_t(planes.depth | planes.velocity), i);
+    return planes;
+}
+
 Image reconstructMotionBlur(const ResolvedFrame& sharp, float farDepth, const PostprocessOptions& o,
-                            PostprocessWork& work, const RevealedBackground* revealed) {
+                            PostprocessWork& work, const RevealedBackground* revealed,
+                            const PostprocessPlanes& planes) {
     const int w = sharp.color.width, h = sharp.color.height, k = std::max(1, o.tileSize);
     const Velocities v = pixelVelocities(sharp, float(k));
     const int tilesX = (w + k - 1) / k, tilesY = (h + k - 1) / k;
-    const std::vector<Vec2> vN = neighbourMax(v, k, tilesX, tilesY, work);
+    ImagePassTrace* trace = planes.trace;
+    TilePlanes tiles{trace, planes.velocity};
+    std::uint16_t output = 0;
+    if (trace) {
+        const auto tileCount = std::uint64_t(tilesX) * std::uint64_t(tilesY);
+        tiles.tileMax = trace->addPlane("TileMax", tileCount, kPlaneVelocityBytes);
+        tiles.neighbourMax = trace->addPlane("NeighbourMax", tileCount, kPlaneVelocityBytes);
+        output = trace->addPlane("output", std::uint64_t(w) * std::uint64_t(h),
+                                 kResolvedImagePixelBytes);
+    }
+    const std::vector<Vec2> vN = neighbourMax(v, k, tilesX, tilesY, work, tiles);
+    const auto tap = std::uint16_t(ImagePassTrace::resolvedImage() | planes.depth |
+                                   planes.velocity | planes.revealed);
+    if (trace) trace->beginPass("gather");
     auto depth = [&](int x, int y) {
         const float z = sharp.depth[std::size_t(y) * std::size_t(w) + std::size_t(x)];
         return z > 0.0f ? z : farDepth;
@@ -163,11 +207,20 @@ Image reconstructMotionBlur(const ResolvedFrame& sharp, float farDepth, const Po
     const int S = std::max(3, o.samples | 1);
     for (int y = 0; y < h; ++y) {
         for (int x = 0; x < w; ++x) {
-            const Vec2 n = vN[std::size_t(y / k) * std::size_t(tilesX) + std::size_t(x / k)];
-            if (glm::length(n) <= 0.5f) continue;
-            ++work.blurredPixels;
-            const float vt = glm::length(v.at(x, y)), zt = depth(x, y);
+            const std::size_t tile = std::size_t(y / k) * std::size_t(tilesX) + std::size_t(x / k);
+            const Vec2 n = vN[tile];
             const std::size_t target = std::size_t(y) * std::size_t(w) + std::size_t(x);
+            if (trace) {
+                trace->read(tiles.neighbourMax, tile);
+                trace->read(ImagePassTrace::resolvedImage(), target);
+            }
+            if (glm::length(n) <= 0.5f) {
+                if (trace) trace->write(output, target);
+                continue;
+            }
+            ++work.blurredPixels;
+            if (trace) trace->read(std::uint16_t(tap & ~ImagePassTrace::resolvedImage()), target);
+            const float vt = glm::length(v.at(x, y)), zt = depth(x, y);
             float weight = 1.0f / std::max(vt, 1.0f);
             Vec3 sum = sharp.color.get(x, y) * weight;
             std::optional<Composite> composite;
@@ -180,6 +233,7 @@ Image reconstructMotionBlur(const ResolvedFrame& sharp, float farDepth, const Po
                 const float t = -1.0f + 2.0f * (float(i) + jitter + 1.0f) / float(S + 1);
                 const int sx = std::clamp(int(std::floor(float(x) + n.x * t + 0.5f)), 0, w - 1);
                 const int sy = std::clamp(int(std::floor(float(y) + n.y * t + 0.5f)), 0, h - 1);
+                if (trace) trace->read(tap, std::size_t(sy) * std::size_t(w) + std::size_t(sx));
                 const float s = glm::length(Vec2(float(sx - x), float(sy - y)));
                 const float vs = glm::length(v.at(sx, sy));
                 const float z = (zt - depth(sx, sy)) / o.softZExtent;
@@ -196,6 +250,7 @@ Image reconstructMotionBlur(const ResolvedFrame& sharp, float farDepth, const Po
                 ++work.gatherSamples;
             }
             out.set(x, y, composite ? composite->blend(sum / weight, S) : sum / weight);
+            if (trace) trace->write(output, target);
         }
     }
     return out;

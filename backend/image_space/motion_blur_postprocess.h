@@ -25,6 +25,7 @@
 
 #include "backend/images/image.h"
 #include "backend/shading/resolve.h"
+#include "core/image_pass_trace.h"
 #include "core/work_counts.h"
 
 namespace patchsim {
@@ -65,6 +66,18 @@ struct RevealedBackground {
     std::vector<int> object;
 };
 
+// The planes the filter reads beside the resolved colour, in an image-space trace
+// (core/image_pass_trace.h), and the one the hybrid's revealed background lies in (0: none).
+struct PostprocessPlanes {
+    ImagePassTrace* trace = nullptr;  // null: nothing recorded
+    std::uint16_t depth = 0, velocity = 0, revealed = 0;
+};
+inline constexpr std::uint32_t kPlaneDepthBytes = 4;     // fp32
+inline constexpr std::uint32_t kPlaneVelocityBytes = 4;  // two fp16, as are the tile maxima
+// Declares the depth and velocity planes in `trace` and records the resolve's writes of them,
+// pixel by pixel (the pass "resolve AOVs"): the AOVs the filter reads.
+PostprocessPlanes recordResolveAovs(ImagePassTrace& trace, int width, int height);
+
 // The blurred colour of `sharp` (same size). `farDepth` stands in for the depth of pixels with no
 // hit. With `revealed` (the hybrid), a pixel is composited as foreground over background, the
 // foreground's share of the S gathered samples being its coverage over the exposure:
@@ -77,9 +90,15 @@ struct RevealedBackground {
 // Either is blended with the post-process's colour by the share of those samples whose
 // background a ray revealed: the ray mask's holes and edges are no seams, and a pixel with no
 // such sample gets the post-process's colour, bit for bit.
+// With `planes.trace`, records its passes: TileMax (every pixel's velocity read in row order, a
+// tile row's maxima written once its last pixel row is read), NeighbourMax (each tile's 3 x 3
+// tile maxima read, its maximum written) and the gather (a pixel's NeighbourMax and colour read;
+// a blurred pixel's depth and velocity too, and each tap's colour, depth and velocity, and its
+// revealed background with the hybrid's; every pixel's output written, a still one a copy).
 Image reconstructMotionBlur(const ResolvedFrame& sharp, float farDepth,
                             const PostprocessOptions& options, PostprocessWork& work,
-                            const RevealedBackground* revealed = nullptr);
+                            const RevealedBackground* revealed = nullptr,
+                            const PostprocessPlanes& planes = {});
 
 // Half the exposure's screen motion of pixel i, clamped to `k` pixels (the filter's velocity).
 Vec2 pixelVelocity(const ResolvedFrame& sharp, std::size_t i, float k);

@@ -17,8 +17,9 @@ class HybridFrame : public SharpMethodFrame {
         if (in_.effects.motion) {
             PostprocessOptions o = in_.options->postprocess;
             o.seed = in_.scene->film.seed;
-            frame.color = hybridMotionBlur(in_.shading(), frame, *in_.targets.opaque,
-                                           {o, in_.options->edgeThreshold}, post, hybrid);
+            frame.color = hybridMotionBlur(
+                in_.shading(), frame, *in_.targets.opaque, {o, in_.options->edgeThreshold}, post,
+                hybrid, in_.memoryTrace ? &in_.memoryTrace->startImagePasses() : nullptr);
         }
         post.flush();
         hybrid.flush();

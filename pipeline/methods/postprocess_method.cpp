@@ -15,7 +15,12 @@ class PostprocessFrame : public SharpMethodFrame {
         if (in_.effects.motion) {
             PostprocessOptions o = in_.options->postprocess;
             o.seed = in_.scene->film.seed;
-            frame.color = reconstructMotionBlur(frame, in_.camera().farPlane(), o, work);
+            const int w = frame.color.width, h = frame.color.height;
+            const PostprocessPlanes planes =
+                in_.memoryTrace ? recordResolveAovs(in_.memoryTrace->startImagePasses(), w, h)
+                                : PostprocessPlanes{};
+            frame.color =
+                reconstructMotionBlur(frame, in_.camera().farPlane(), o, work, nullptr, planes);
         }
         work.flush();
         // The filter's passes run once the frame is shaded: charged with its last patch.

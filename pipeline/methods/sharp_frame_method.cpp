@@ -26,6 +26,12 @@ void SharpFrameMethod::check(const SceneDesc& scene, const RenderOptions& option
     checkTileScratch(scene, options, workers);
 }
 
+std::unique_ptr<MemoryTrace> SharpFrameMethod::makeMemoryTrace(const SceneDesc& scene) const {
+    return std::make_unique<MemoryTrace>(MemoryTrace::tiles(scene.film.width, scene.film.height,
+                                                            scene.rasterizer.tileSize,
+                                                            scene.film.samplesPerPixel));
+}
+
 const RatioCounter& SharpFrameMethod::sampleTestEfficiency() const {
     return patchsim::sampleTestEfficiency();
 }
@@ -39,7 +45,7 @@ VisibilityTotals SharpFrameMethod::totals(const CounterValues& v) const {
 void SharpMethodFrame::visibility() {
     rasterizePatches(in_,
                      {in_.samples, sharpFrameRasterized(in_.effects), in_.targets, in_.partition,
-                      in_.options->progress},
+                      in_.options->progress, in_.memoryTrace},
                      ops_);
 }
 

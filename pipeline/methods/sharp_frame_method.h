@@ -13,6 +13,9 @@ class SharpFrameMethod : public VisibilityMethod {
     bool rasterizesPatches() const override { return true; }
     // The patch rasterizer's ray tests (hybrid's reveal rays stay fp32).
     bool roundsTriangleTests() const override { return true; }
+    // The sharp frame's tiles, as the patch method's; the method's image-space passes follow
+    // the resolve (core/image_pass_trace.h).
+    std::unique_ptr<MemoryTrace> makeMemoryTrace(const SceneDesc& scene) const override;
     // Every sample at `sharpTime()`, through a pinhole.
     SampleGenerator makeSamples(const FilmDesc& film, const Effects& effects) const override;
     void check(const SceneDesc& scene, const RenderOptions& options, int workers) const override;

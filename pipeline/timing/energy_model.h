@@ -41,7 +41,7 @@ namespace patchsim {
 
 struct HardwareConfig;
 struct MemoryReport;
-inline constexpr int kEnergyMemoryParts = 6;  // the caches (memory_model.h's order), then DRAM
+inline constexpr int kEnergyMemoryParts = 7;  // the caches (memory_model.h's order), then DRAM
 
 // X(member, "json key", default picojoules at 45 nm, "what one costs")
 #define PATCHSIM_ENERGY_ENTRIES(X)                                                              \

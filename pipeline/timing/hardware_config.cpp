@@ -211,7 +211,8 @@ MemoryConfig readMemory(ObjectReader r) {
             m.caches[std::size_t(c)] = defaultVertexInputCache(m.lineBytes());
             continue;
         }
-        if (!cache && CacheClient(c) == CacheClient::Layers) {  // like the visibility cache
+        if (!cache && (CacheClient(c) == CacheClient::Layers ||
+                       CacheClient(c) == CacheClient::Image)) {  // like the visibility cache
             m.caches[std::size_t(c)] = m.cache(CacheClient::Visibility);
             continue;
         }
@@ -378,6 +379,8 @@ const char* cacheClientName(CacheClient c) {
             return "vertex_input";
         case CacheClient::Layers:
             return "layers";
+        case CacheClient::Image:
+            return "image";
         case CacheClient::LastLevel:
             return "llc";
     }
@@ -394,6 +397,8 @@ const char* cacheClientTitle(CacheClient c) {
             return "vertex input cache";
         case CacheClient::Layers:
             return "layer cache";
+        case CacheClient::Image:
+            return "image cache";
         case CacheClient::LastLevel:
             return "last-level cache";
     }

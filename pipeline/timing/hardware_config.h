@@ -29,8 +29,8 @@ struct StageConfig {
 
 // The caches of the memory system, each a client of the last-level cache but the LLC itself
 // (always the last).
-enum class CacheClient : std::uint8_t { Depth, Visibility, VertexInput, Layers, LastLevel };
-inline constexpr int kCacheClients = 5;
+enum class CacheClient : std::uint8_t { Depth, Visibility, VertexInput, Layers, Image, LastLevel };
+inline constexpr int kCacheClients = 6;
 const char* cacheClientName(CacheClient c);   // its key in the hardware file: "depth", ...
 const char* cacheClientTitle(CacheClient c);  // in reports: "depth cache", ...
 
@@ -63,10 +63,10 @@ struct MemoryConfig {
     // Depth blocks reach DRAM at their compressed size (depth_compression.h).
     DepthCompression depthCompression = DepthCompression::None;
 
-    // The caches the file gave; an optional one left out (vertex_input, layers) is derived from
-    // the others whenever the section is read, so an `explore` point that changes those changes
-    // it too.
-    std::array<bool, kCacheClients> cacheGiven{true, true, true, true, true};
+    // The caches the file gave; an optional one left out (vertex_input, layers, image) is derived
+    // from the others whenever the section is read, so an `explore` point that changes those
+    // changes it too.
+    std::array<bool, kCacheClients> cacheGiven{true, true, true, true, true, true};
 
     const CacheConfig& cache(CacheClient c) const { return caches[std::size_t(c)]; }
     CacheConfig& cache(CacheClient c) { return caches[std::size_t(c)]; }

@@ -33,7 +33,7 @@ class MemorySystem {
   public:
     // `depthScale`: per depth block (of `depthBlockBytes`, from address 0), its compressed size
     // over its uncompressed one (empty: uncompressed).
-    static_assert(kCacheClients == 5, "a CacheModel per client below");
+    static_assert(kCacheClients == 6, "a CacheModel per client below");
     MemorySystem(const MemoryConfig& config, std::uint64_t endAddress, std::size_t patchCount,
                  const std::vector<double>& depthScale, std::uint64_t depthBlockBytes)
         : depthScale_(depthScale),
@@ -41,7 +41,7 @@ class MemorySystem {
           line_(config.lineBytes()),
           caches_{CacheModel(config.caches[0].geometry), CacheModel(config.caches[1].geometry),
                   CacheModel(config.caches[2].geometry), CacheModel(config.caches[3].geometry),
-                  CacheModel(config.caches[4].geometry)},
+                  CacheModel(config.caches[4].geometry), CacheModel(config.caches[5].geometry)},
           inDram_((endAddress / line_ + 64) / 64, 0),
           banks_(config.dramBanks, config.dramBytesPerClock,
                  config.dramBanks.modelled() ? patchCount : 0) {
@@ -157,8 +157,12 @@ class MemorySystem {
     std::vector<std::uint64_t> inDram_;  // per line: written to DRAM this frame (else cleared)
     DramBanks banks_;
     using LastLines = std::array<std::array<std::uint64_t, 2>, kCacheClients>;
-    static constexpr LastLines kNoLast{
-        {{kNone, kNone}, {kNone, kNone}, {kNone, kNone}, {kNone, kNone}, {kNone, kNone}}};
+    static constexpr LastLines kNoLast{{{kNone, kNone},
+                                        {kNone, kNone},
+                                        {kNone, kNone},
+                                        {kNone, kNone},
+                                        {kNone, kNone},
+                                        {kNone, kNone}}};
     LastLines last_ = kNoLast;
     std::uint64_t lastStream_ = kNone;
     MemoryReport report_;
@@ -590,6 +594,53 @@ void replayResolve(const MemoryTrace& trace, const SurfaceLayout& layout, const 
     memory.request(MemoryClass::ImageWrites, pixels * kImagePixelBytes);
 }
 
+// The image-space passes after the resolve (core/image_pass_trace.h): plane 0 is the resolved
+// image where the resolve wrote it; the rest lie from `base` on, one after another, each on a
+// 4 KiB boundary. Every access goes through the image cache.
+class ImagePlanes {
+  public:
+    ImagePlanes(const ImagePassTrace* trace, std::uint64_t imageBase, std::uint64_t base)
+        : trace_(trace), end_(base) {
+        if (!trace_) return;
+        for (const ImagePlane& plane : trace_->planes()) {
+            if (bases_.empty()) {
+                bases_.push_back(imageBase);
+                continue;
+            }
+            bases_.push_back(end_);
+            end_ = alignUp(end_ + plane.elements * plane.elementBytes);
+        }
+    }
+    std::uint64_t endAddress() const { return end_; }
+
+    void replay(std::size_t patch, MemorySystem& memory) const {
+        if (!trace_) return;
+        const std::vector<ImagePlane>& planes = trace_->planes();
+        for (const ImagePass& pass : trace_->passes()) {
+            memory.newPass();
+            for (std::size_t i = 0; i < pass.elements.size(); ++i) {
+                const std::uint16_t mask = pass.planes[i];
+                const bool write = (mask & kImageWrite) != 0;
+                for (std::size_t p = 0; p < planes.size(); ++p) {
+                    if (!(mask >> p & 1u)) continue;
+                    const std::uint64_t at =
+                        bases_[p] + std::uint64_t(pass.elements[i]) * planes[p].elementBytes;
+                    for (std::uint64_t line = memory.lineOf(at);
+                         line <= memory.lineOf(at + planes[p].elementBytes - 1); ++line)
+                        memory.access(CacheClient::Image, line, write, patch);
+                }
+            }
+            memory.request(MemoryClass::ImagePassReads, trace_->passBytes(pass, false));
+            memory.request(MemoryClass::ImagePassWrites, trace_->passBytes(pass, true));
+        }
+    }
+
+  private:
+    const ImagePassTrace* trace_;
+    std::vector<std::uint64_t> bases_;
+    std::uint64_t end_;
+};
+
 }  // namespace
 
 const char* memoryClassName(MemoryClass c) {
@@ -657,15 +708,17 @@ MemoryReport simulateAccumulation(const MemoryTrace& trace, const MemoryConfig& 
         frame.fetch,
         alignUp(accumulation + std::uint64_t(trace.width()) * std::uint64_t(trace.height()) *
                                    kAccumulationPixelBytes));
+    const ImagePlanes images(trace.imagePasses(), layout.imageAddress(0, 0), inputs.endAddress());
     const std::size_t patches = std::max(frame.patchCount, frame.lastPatch + 1);
     const std::uint64_t depthBlockBytes =
         std::uint64_t(config.surfaceTile) * std::uint64_t(config.surfaceTile) * kDepthBytes;
     const std::vector<double> uncompressed;  // a pass's depth lives one pass: not compressed
-    MemorySystem memory(config, inputs.endAddress(), patches, uncompressed, depthBlockBytes);
+    MemorySystem memory(config, images.endAddress(), patches, uncompressed, depthBlockBytes);
     inputs.markInDram(memory);
     for (int f = 0; f < frame.frames; ++f)
         replayAccumulation(trace, layout, inputs, accumulation, config.order, patches,
                            frame.lastPatch, f == 0, memory);
+    images.replay(frame.lastPatch, memory);
     return finishReplay(trace, config, frame, memory);
 }
 
@@ -683,11 +736,13 @@ MemoryReport simulateMemory(const MemoryTrace& trace, const MemoryConfig& config
                                           std::uint64_t(config.surfaceTile) *
                                           std::uint64_t(trace.samplesPerPixel()) * kDepthBytes;
     const InputBuffers inputs(frame.fetch, spills.endAddress());
-    MemorySystem memory(config, inputs.endAddress(), patches, frame.depthScale, depthBlockBytes);
+    const ImagePlanes images(trace.imagePasses(), layout.imageAddress(0, 0), inputs.endAddress());
+    MemorySystem memory(config, images.endAddress(), patches, frame.depthScale, depthBlockBytes);
     inputs.markInDram(memory);
     for (int f = 0; f < frame.frames; ++f)
         replayPasses(trace, layout, spills, inputs, layers, config.order, patches, f == 0, memory);
     replayResolve(trace, layout, layers, frame.lastPatch, memory);
+    images.replay(frame.lastPatch, memory);
     return finishReplay(trace, config, frame, memory);
 }
 

@@ -57,6 +57,11 @@
 // replayed this way (the render records no trace for them), and depth is not compressed. A
 // warm repeat (FrameMemoryInputs::frames) runs every index again without the fetches.
 //
+// An image-space method's full-screen passes (MemoryTrace::imagePasses, core/image_pass_trace.h)
+// follow the resolve, access by access through the image cache: plane 0 is the resolved image
+// where the resolve wrote it, the method's other planes lie after the scene's buffers, row-major,
+// each on a 4 KiB boundary.
+//
 // A patch whose hierarchy outgrows the on-chip scratch budget spills the excess: written once
 // through the LLC when the hierarchy is built (before the tiles, in patch order), read again
 // through the LLC by each of the patch's tile passes (all of it: an upper bound, as which nodes a
@@ -91,14 +96,17 @@ namespace patchsim {
     X(LayerWrites, "layer_writes", "an offer's layer written (32 bytes), and header when added") \
     X(AccumulationReads, "accumulation_reads",                                                   \
       "an accumulation buffer's pixel read to add a pass, and at the end (16 bytes)")            \
-    X(AccumulationWrites, "accumulation_writes", "its pixel written after each pass (16 bytes)")
+    X(AccumulationWrites, "accumulation_writes", "its pixel written after each pass (16 bytes)") \
+    X(ImagePassReads, "image_pass_reads",                                                        \
+      "image-space passes' reads of the resolved image and their planes")                        \
+    X(ImagePassWrites, "image_pass_writes", "their planes written, the resolve's AOVs too")
 
 enum class MemoryClass : std::uint8_t {
 #define PATCHSIM_MEMORY_CLASS_ENUM(name, key, definition) name,
     PATCHSIM_MEMORY_CLASSES(PATCHSIM_MEMORY_CLASS_ENUM)
 #undef PATCHSIM_MEMORY_CLASS_ENUM
 };
-inline constexpr int kMemoryClasses = 13;
+inline constexpr int kMemoryClasses = 15;
 const char* memoryClassName(MemoryClass c);
 const char* memoryClassDefinition(MemoryClass c);
 

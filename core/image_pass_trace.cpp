@@ -1,0 +1,41 @@
+#include "core/image_pass_trace.h"
+
+#include <stdexcept>
+
+namespace patchsim {
+
+ImagePassTrace::ImagePassTrace(int width, int height) {
+    planes_.push_back(
+        {"resolved image", std::uint64_t(width) * std::uint64_t(height), kResolvedImagePixelBytes});
+}
+
+std::uint16_t ImagePassTrace::addPlane(std::string name, std::uint64_t elements,
+                                       std::uint32_t elementBytes) {
+    if (planes_.size() >= std::size_t(kMaxImagePlanes))
+        throw std::logic_error("an image-space trace holds at most 15 planes");
+    planes_.push_back({std::move(name), elements, elementBytes});
+    return std::uint16_t(1u << (planes_.size() - 1));
+}
+
+void ImagePassTrace::beginPass(std::string name) {
+    passes_.push_back({std::move(name), {}, {}});
+}
+
+std::uint64_t ImagePassTrace::passBytes(const ImagePass& pass, bool writes) const {
+    std::uint64_t bytes = 0;
+    for (std::uint16_t planes : pass.planes) {
+        if (((planes & kImageWrite) != 0) != writes) continue;
+        for (std::size_t p = 0; p < planes_.size(); ++p)
+            if (planes >> p & 1u) bytes += planes_[p].elementBytes;
+    }
+    return bytes;
+}
+
+std::uint64_t ImagePassTrace::bytes() const {
+    std::uint64_t n = 0;
+    for (const ImagePass& pass : passes_)
+        n += pass.elements.size() * (sizeof(std::uint32_t) + sizeof(std::uint16_t));
+    return n;
+}
+
+}  // namespace patchsim

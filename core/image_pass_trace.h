@@ -1,0 +1,72 @@
+#pragma once
+// What an image-space method's full-screen passes read and wrote after the resolve (the
+// post-process's TileMax, NeighbourMax and gather; the hybrid's mask passes), recorded by the
+// functional filter for the memory model (pipeline/timing/memory_model.h) to replay through the
+// image cache. Part of a MemoryTrace; recorded only when the hardware models memory.
+//
+// Representation
+// --------------
+// Planes are row-major arrays of one element per pixel (or per tile), each `elementBytes` long.
+// Plane 0 is the resolved image itself (8 bytes a pixel, where the resolve wrote it); a method
+// declares the rest (depth, velocity, tile maxima, its output) with `addPlane`, and the memory
+// model lays them out one after another. A pass is its accesses in the order the filter made
+// them: an element index and 16 bits holding a mask of the planes accessed at that index (a
+// gather tap reads a pixel's colour, depth and velocity in one access) and whether it is a
+// write. Six bytes an access; no addresses, so one trace serves every layout and cache size.
+
+#include <cstddef>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace patchsim {
+
+struct ImagePlane {
+    std::string name;  // "velocity", for reports and tests
+    std::uint64_t elements = 0;
+    std::uint32_t elementBytes = 0;
+};
+
+struct ImagePass {
+    std::string name;  // "gather"
+    std::vector<std::uint32_t> elements;
+    std::vector<std::uint16_t> planes;  // a mask of planes 0..14, and kImageWrite
+};
+
+inline constexpr std::uint16_t kImageWrite = 0x8000;
+inline constexpr int kResolvedImagePlane = 0;
+inline constexpr int kMaxImagePlanes = 15;
+inline constexpr std::uint32_t kResolvedImagePixelBytes = 8;  // RGBA at 16 bits
+
+class ImagePassTrace {
+  public:
+    // The resolved image of `width` x `height` pixels is plane 0.
+    ImagePassTrace(int width, int height);
+
+    // Declares a plane; returns its mask bit. Throws std::logic_error past kMaxImagePlanes.
+    std::uint16_t addPlane(std::string name, std::uint64_t elements, std::uint32_t elementBytes);
+    static constexpr std::uint16_t resolvedImage() { return 1u << kResolvedImagePlane; }
+
+    void beginPass(std::string name);
+    void read(std::uint16_t planeMask, std::size_t element) { add(planeMask, element); }
+    void write(std::uint16_t planeMask, std::size_t element) {
+        add(std::uint16_t(planeMask | kImageWrite), element);
+    }
+
+    const std::vector<ImagePlane>& planes() const { return planes_; }
+    const std::vector<ImagePass>& passes() const { return passes_; }
+    // The bytes a pass's reads (or writes) touched: each access's planes' element sizes.
+    std::uint64_t passBytes(const ImagePass& pass, bool writes) const;
+    std::uint64_t bytes() const;  // what the trace holds
+
+  private:
+    void add(std::uint16_t planes, std::size_t element) {
+        passes_.back().elements.push_back(std::uint32_t(element));
+        passes_.back().planes.push_back(planes);
+    }
+
+    std::vector<ImagePlane> planes_;
+    std::vector<ImagePass> passes_;
+};
+
+}  // namespace patchsim
