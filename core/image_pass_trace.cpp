@@ -4,15 +4,19 @@
 
 namespace patchsim {
 
-ImagePassTrace::ImagePassTrace(int width, int height) {
-    planes_.push_back(
-        {"resolved image", std::uint64_t(width) * std::uint64_t(height), kResolvedImagePixelBytes});
+ImagePassTrace::ImagePassTrace(int width, int height, int resolvedFrames)
+    : resolvedFrames_(resolvedFrames) {
+    if (resolvedFrames < 1 || resolvedFrames >= kMaxImagePlanes)
+        throw std::logic_error("an image-space trace follows 1 to 13 resolved frames");
+    for (int f = 0; f < resolvedFrames; ++f)
+        planes_.push_back({f == 0 ? "resolved image" : "later resolved image",
+                           std::uint64_t(width) * std::uint64_t(height), kResolvedImagePixelBytes});
 }
 
 std::uint16_t ImagePassTrace::addPlane(std::string name, std::uint64_t elements,
                                        std::uint32_t elementBytes) {
     if (planes_.size() >= std::size_t(kMaxImagePlanes))
-        throw std::logic_error("an image-space trace holds at most 15 planes");
+        throw std::logic_error("an image-space trace holds at most 14 planes");
     planes_.push_back({std::move(name), elements, elementBytes});
     return std::uint16_t(1u << (planes_.size() - 1));
 }
@@ -24,7 +28,9 @@ void ImagePassTrace::beginPass(std::string name) {
 std::uint64_t ImagePassTrace::passBytes(const ImagePass& pass, bool writes) const {
     std::uint64_t bytes = 0;
     for (std::uint16_t planes : pass.planes) {
-        if (((planes & kImageWrite) != 0) != writes) continue;
+        const bool counted =
+            (planes & kImageUpdate) != 0 || ((planes & kImageWrite) != 0) == writes;
+        if (!counted) continue;
         for (std::size_t p = 0; p < planes_.size(); ++p)
             if (planes >> p & 1u) bytes += planes_[p].elementBytes;
     }

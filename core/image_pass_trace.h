@@ -7,12 +7,14 @@
 // Representation
 // --------------
 // Planes are row-major arrays of one element per pixel (or per tile), each `elementBytes` long.
-// Plane 0 is the resolved image itself (8 bytes a pixel, where the resolve wrote it); a method
-// declares the rest (depth, velocity, tile maxima, its output) with `addPlane`, and the memory
-// model lays them out one after another. A pass is its accesses in the order the filter made
-// them: an element index and 16 bits holding a mask of the planes accessed at that index (a
-// gather tap reads a pixel's colour, depth and velocity in one access) and whether it is a
-// write. Six bytes an access; no addresses, so one trace serves every layout and cache size.
+// The first planes are the resolved images (8 bytes a pixel, where the resolves wrote them: the
+// frame's, then a later frame's, as reprojection renders two); a method declares the rest (depth,
+// velocity, tile maxima, its output) with `addPlane`, and the memory model lays them out one after
+// another. A pass is its accesses in the order the filter made them: an element index and 16 bits
+// holding a mask of the planes accessed at that index (a gather tap reads a pixel's colour, depth
+// and velocity in one access) and whether it is a write, or an update (read, modified and written:
+// an accumulation buffer's blend, replayed as a write, whose miss brings the line in, and counted
+// as both). Six bytes an access; no addresses, so one trace serves every layout and cache size.
 
 #include <cstddef>
 #include <cstdint>
@@ -30,27 +32,32 @@ struct ImagePlane {
 struct ImagePass {
     std::string name;  // "gather"
     std::vector<std::uint32_t> elements;
-    std::vector<std::uint16_t> planes;  // a mask of planes 0..14, and kImageWrite
+    std::vector<std::uint16_t> planes;  // a mask of planes 0..13, and kImageWrite or kImageUpdate
 };
 
-inline constexpr std::uint16_t kImageWrite = 0x8000;
-inline constexpr int kResolvedImagePlane = 0;
-inline constexpr int kMaxImagePlanes = 15;
+inline constexpr std::uint16_t kImageWrite = 0x8000, kImageUpdate = 0x4000;
+inline constexpr int kMaxImagePlanes = 14;
 inline constexpr std::uint32_t kResolvedImagePixelBytes = 8;  // RGBA at 16 bits
 
 class ImagePassTrace {
   public:
-    // The resolved image of `width` x `height` pixels is plane 0.
-    ImagePassTrace(int width, int height);
+    // The resolved images of `width` x `height` pixels are planes 0 to `resolvedFrames` - 1.
+    ImagePassTrace(int width, int height, int resolvedFrames = 1);
 
     // Declares a plane; returns its mask bit. Throws std::logic_error past kMaxImagePlanes.
     std::uint16_t addPlane(std::string name, std::uint64_t elements, std::uint32_t elementBytes);
-    static constexpr std::uint16_t resolvedImage() { return 1u << kResolvedImagePlane; }
+    static constexpr std::uint16_t resolvedImage(int frame = 0) {
+        return std::uint16_t(1u << frame);
+    }
+    int resolvedFrames() const { return resolvedFrames_; }
 
     void beginPass(std::string name);
     void read(std::uint16_t planeMask, std::size_t element) { add(planeMask, element); }
     void write(std::uint16_t planeMask, std::size_t element) {
         add(std::uint16_t(planeMask | kImageWrite), element);
+    }
+    void update(std::uint16_t planeMask, std::size_t element) {
+        add(std::uint16_t(planeMask | kImageUpdate), element);
     }
 
     const std::vector<ImagePlane>& planes() const { return planes_; }
@@ -65,6 +72,7 @@ class ImagePassTrace {
         passes_.back().planes.push_back(planes);
     }
 
+    int resolvedFrames_;
     std::vector<ImagePlane> planes_;
     std::vector<ImagePass> passes_;
 };

@@ -17,6 +17,13 @@ MemoryTrace MemoryTrace::bands(int width, int height, int bands, int samplesPerP
     return trace;
 }
 
+MemoryTrace& MemoryTrace::addLaterFrame() {
+    MemoryTrace later(width_, height_, spp_);
+    for (const RegionTrace& r : regions_) later.addRegion(r.x0, r.y0, r.stride);
+    later.layerSlots_ = layerSlots_;
+    return laterFrames_.emplace_back(std::move(later));
+}
+
 std::span<const std::uint32_t> MemoryTrace::reads(const RegionTrace& r, std::size_t pass) const {
     const std::size_t end =
         pass + 1 < r.passes.size() ? r.passes[pass + 1].readBegin : r.reads.size();
@@ -67,6 +74,7 @@ std::uint64_t MemoryTrace::bytes() const {
         n += r.passes.size() * sizeof(TracedPass) +
              (r.reads.size() + r.writes.size() + r.offers.size()) * sizeof(std::uint32_t);
     if (imagePasses_) n += imagePasses_->bytes();
+    for (const MemoryTrace& later : laterFrames_) n += later.bytes();
     return n;
 }
 

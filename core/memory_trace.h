@@ -71,9 +71,21 @@ class MemoryTrace {
     // index, each time with that index's samples only (pipeline/timing/memory_model.h).
     bool accumulation() const { return accumulation_; }
     void setAccumulation(bool accumulation) { accumulation_ = accumulation; }
-    // The image-space passes after the resolve (core/image_pass_trace.h), for a method that
-    // runs them; null until started.
-    ImagePassTrace& startImagePasses() { return imagePasses_.emplace(width_, height_); }
+    // The method records opaque frames only (a transparent frame's trace is dropped): what it
+    // does with the layers after the visibility step is not modelled.
+    bool opaqueOnly() const { return opaqueOnly_ || accumulation_; }
+    void setOpaqueOnly() { opaqueOnly_ = true; }
+    // Frames rendered after this one onto surfaces of their own (reprojection's frame at
+    // shutter close), each replayed with its resolve after this frame's; same regions, no
+    // passes yet.
+    MemoryTrace& addLaterFrame();
+    const std::vector<MemoryTrace>& laterFrames() const { return laterFrames_; }
+    // The image-space passes after the resolves (core/image_pass_trace.h), for a method that
+    // runs them; null until started. Its first planes are this frame's resolved image and then
+    // each later frame's.
+    ImagePassTrace& startImagePasses() {
+        return imagePasses_.emplace(width_, height_, int(1 + laterFrames_.size()));
+    }
     const ImagePassTrace* imagePasses() const { return imagePasses_ ? &*imagePasses_ : nullptr; }
 
     std::size_t regionCount() const { return regions_.size(); }
@@ -101,8 +113,9 @@ class MemoryTrace {
         r.stride = stride;
     }
     int width_, height_, spp_, layerSlots_ = 0;
-    bool accumulation_ = false;
+    bool accumulation_ = false, opaqueOnly_ = false;
     std::vector<RegionTrace> regions_;
+    std::vector<MemoryTrace> laterFrames_;
     std::optional<ImagePassTrace> imagePasses_;
 };
 

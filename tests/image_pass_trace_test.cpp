@@ -31,7 +31,19 @@ TEST(ImagePassTrace, PlanesAreMaskBitsAndAPassCountsItsBytesByPlane) {
     EXPECT_EQ(trace.bytes(), 10u * 6);
 }
 
-TEST(ImagePassTrace, HoldsAtMostFifteenPlanes) {
+TEST(ImagePassTrace, AnUpdateCountsAsARead) {
+    ImagePassTrace trace(2, 1, 2);  // two resolved frames: planes 0 and 1
+    EXPECT_EQ(trace.planes().size(), 2u);
+    EXPECT_EQ(ImagePassTrace::resolvedImage(1), 2u);
+    const std::uint16_t sum = trace.addPlane("sum", 2, 16);
+    trace.beginPass("blend");
+    trace.update(sum, 1);
+    trace.read(ImagePassTrace::resolvedImage(1), 0);
+    EXPECT_EQ(trace.passBytes(trace.passes()[0], false), 16u + 8);
+    EXPECT_EQ(trace.passBytes(trace.passes()[0], true), 16u);
+}
+
+TEST(ImagePassTrace, HoldsAtMostFourteenPlanes) {
     ImagePassTrace trace(1, 1);
     for (int p = 1; p < kMaxImagePlanes; ++p) trace.addPlane("p", 1, 1);
     EXPECT_THROW(trace.addPlane("one too many", 1, 1), std::logic_error);

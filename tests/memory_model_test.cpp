@@ -7,6 +7,7 @@
 #include <fstream>
 #include <set>
 
+#include "backend/image_space/sample_reprojection.h"
 #include "core/counters.h"
 #include "core/scene_reader.h"
 #include "pipeline/driver/render.h"
@@ -148,6 +149,15 @@ TEST(MemoryModel, EveryTracingMethodWritesTheQuadsSurfacesOnce) {
         EXPECT_EQ(m.dramWriteBytes, samples * 32 + pixels * 8) << method;
         EXPECT_FALSE(r.memoryTrace->imagePasses()) << method;
     }
+    // Reprojection renders two sharp frames onto surfaces of their own: twice the bytes.
+    const RenderResult twice = renderTraced(fullScreenQuad(w, h, spp), 2, "reprojection");
+    ASSERT_TRUE(twice.memoryTrace);
+    ASSERT_EQ(twice.memoryTrace->laterFrames().size(), 1u);
+    EXPECT_EQ(twice.memoryTrace->laterFrames()[0].samplesWritten(), samples);
+    const MemoryReport both = replay(twice, cachesOf(4096, 4u << 20));
+    EXPECT_EQ(both.dramReadBytes, 0u);
+    EXPECT_EQ(both.dramWriteBytes, 2 * (samples * 32 + pixels * 8));
+    EXPECT_EQ(both.requested(MemoryClass::ResolveReads), 2 * samples * 32);
     // The t-fragment method records nothing yet, and its frame says so.
     const RenderResult tfragment = renderTraced(fullScreenQuad(16, 16, 2), 1, "tfragment");
     EXPECT_FALSE(tfragment.memoryTrace);
@@ -184,6 +194,14 @@ TEST(MemoryModel, ImageSpacePassesGoThroughTheImageCache) {
     EXPECT_GT(small.dramReadBytes, 0u);
     EXPECT_LE(small.dramReadBytes, 256u * 8);
     EXPECT_EQ(small.dramWriteBytes, 256u * (8 + 4));
+    // Planes read together are separate streams: a second pass reading the image and the plane
+    // at each pixel touches each of their lines once (32 + 16 line reads), not once a pixel.
+    passes.beginPass("both");
+    for (std::size_t i = 0; i < 256; ++i)
+        passes.read(std::uint16_t(ImagePassTrace::resolvedImage() | plane), i);
+    const MemoryReport two = simulateMemory(trace, cachesOf(4096, 4u << 20), {1, 0, {}});
+    EXPECT_EQ(two.caches[std::size_t(CacheClient::Image)].reads, 32u + 32 + 16);
+    EXPECT_EQ(two.requested(MemoryClass::ImagePassReads), 256u * 8 + 256 * (8 + 4));
 }
 
 // The post-process and the hybrid charge their sharp frame and their full-screen passes; the
@@ -222,14 +240,69 @@ TEST(MemoryModel, TheImageSpaceMethodsChargeTheirFullScreenPasses) {
                                          [](const ImagePass& p) { return p.name == "ray reveal"; });
         ASSERT_NE(reveal, passes.passes().end());
         EXPECT_GT(c.byName("HY/Masked pixels"), 0);
-        EXPECT_EQ(reveal->elements.size(), 2 * std::uint64_t(c.byName("HY/Masked pixels")));
+        EXPECT_EQ(reveal->elements.size(),
+                  64u * 48 + 2 * std::uint64_t(c.byName("HY/Masked pixels")));
+        RenderOptions untraced;
+        untraced.method = &methodNamed(method);
+        untraced.threads = 2;
+        EXPECT_EQ(renderScene(scene, untraced).frame.color.rgb, r.frame.color.rgb);
     }
-    // Sample reprojection records nothing yet (its second frame and its passes), and says so.
-    const RenderResult reprojection = renderTraced(scene, 1, "reprojection");
-    EXPECT_FALSE(reprojection.memoryTrace);
+}
+
+// Sample reprojection: two sharp frames, then its passes, each the reprojection's own work: a
+// sample's part read per RP/Samples, an accumulation pixel updated per RP/Reprojections, every
+// pixel's sum read and output written, a hole's two frame pixels read. Recording changes no pixel.
+TEST(MemoryModel, SampleReprojectionChargesBothFramesAndItsPasses) {
+    SceneDesc scene = readSceneFile(test::sourcePath("scenes/camera_pan.json"));
+    scene.film.width = 48;
+    scene.film.height = 32;
+    scene.film.samplesPerPixel = 2;
+    const RenderResult r = renderTraced(scene, 2, "reprojection");
+    const CounterValues c = CounterRegistry::instance().snapshot();
+    ASSERT_TRUE(r.memoryTrace);
+    ASSERT_EQ(r.memoryTrace->laterFrames().size(), 1u);
+    EXPECT_GT(r.memoryTrace->laterFrames()[0].samplesWritten(), 0u);
+    ASSERT_TRUE(r.memoryTrace->imagePasses());
+    const ImagePassTrace& passes = *r.memoryTrace->imagePasses();
+    EXPECT_EQ(passes.resolvedFrames(), 2);
+    ASSERT_EQ(passes.passes().size(), 3u);
+    const std::uint64_t pixels = 48 * 32, samples = pixels * 2;
+    const ImagePass& parts = passes.passes()[0];
+    EXPECT_EQ(parts.elements.size(), 2 * samples);
+    EXPECT_EQ(passes.passBytes(parts, true), 2 * samples * kSamplePartBytes);
+    const ImagePass& reproject = passes.passes()[1];
+    const auto updates =
+        std::uint64_t(std::count_if(reproject.planes.begin(), reproject.planes.end(),
+                                    [](std::uint16_t m) { return (m & kImageUpdate) != 0; }));
+    EXPECT_EQ(updates, std::uint64_t(c.byName("RP/Reprojections")));
+    EXPECT_EQ(reproject.elements.size() - updates, std::uint64_t(c.byName("RP/Samples")));
+    EXPECT_EQ(passes.passBytes(reproject, true), updates * kReprojectionSumBytes);
+    EXPECT_EQ(
+        passes.passBytes(reproject, false),
+        updates * kReprojectionSumBytes + (reproject.elements.size() - updates) * kSamplePartBytes);
+    const ImagePass& resolve = passes.passes()[2];
+    const auto holes = std::uint64_t(c.byName("RP/Holes"));
+    EXPECT_EQ(resolve.elements.size(), 2 * pixels + holes);
+    EXPECT_EQ(passes.passBytes(resolve, false), pixels * kReprojectionSumBytes + holes * 16);
+    EXPECT_EQ(passes.passBytes(resolve, true), pixels * 8);
+    const MemoryReport m = replay(r, cachesOf(4096, 1u << 20));
+    EXPECT_GT(m.caches[std::size_t(CacheClient::Image)].writes, 0u);
+    RenderOptions untraced;
+    untraced.method = &methodNamed("reprojection");
+    untraced.threads = 2;
+    EXPECT_EQ(renderScene(scene, untraced).frame.color.rgb, r.frame.color.rgb);
+    // A transparent frame's layers, reprojected as parts of their samples, are not recorded: such
+    // a frame records nothing, and says so.
+    SceneDesc glass = readSceneFile(test::sourcePath("scenes/transparency.json"));
+    glass.film.width = 32;
+    glass.film.height = 24;
+    glass.film.samplesPerPixel = 2;
+    const RenderResult layered = renderTraced(glass, 1, "reprojection");
+    EXPECT_FALSE(layered.memoryTrace);
+    EXPECT_TRUE(layered.memoryTraceDropped);
     HardwareConfig hw = defaultHardwareConfig();
     hw.memory = cachesOf(4096, 16384);
-    EXPECT_TRUE(timeFrame(reprojection, hw).memoryNotModelled);
+    EXPECT_TRUE(timeFrame(layered, hw).memoryNotModelled);
 }
 
 // The accumulation buffer (interleaved) renders a frame per sample index onto 1-spp surfaces:

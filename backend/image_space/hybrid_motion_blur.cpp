@@ -145,12 +145,13 @@ std::uint8_t edgeAt(const ResolvedFrame& sharp, const GBuffer& g, const HybridOp
     const int ny = int(std::lround(std::clamp(float(y) + motion.y, 0.0f, float(h - 1))));
     const std::size_t next = g.index(nx, ny);
     ++work.maskReads;
+    if (trace) trace->read(planes.object, next);
+    if (g.object[next] == g.object[i]) return 0;
     if (trace) {
         trace->read(planes.post.depth, i);
-        trace->read(std::uint16_t(planes.object | planes.post.depth), next);
+        trace->read(planes.post.depth, next);
     }
-    if (g.object[next] == g.object[i] || !(g.depth[next] - g.depth[i] > o.post.softZExtent))
-        return 0;
+    if (!(g.depth[next] - g.depth[i] > o.post.softZExtent)) return 0;
     ++work.candidates;
     work.maskReads += 25;
     if (trace) recordEdgeReads(*trace, planes, g, x, y);
@@ -298,6 +299,7 @@ Image hybridMotionBlur(const ShadingContext& c, const ResolvedFrame& sharp,
     for (int y = 0; y < g.height; ++y) {
         for (int x = 0; x < g.width; ++x) {
             const std::size_t i = g.index(x, y);
+            if (trace) trace->read(planes.mask, i);
             if (!mask[i]) continue;
             if (trace) {  // what the ray starts from, and what it reveals (or nothing)
                 trace->read(std::uint16_t(planes.post.depth | planes.object), i);

@@ -75,12 +75,13 @@ const HybridCounters& hybridCounters();
 
 // `sharp` is the resolved mid-shutter frame, `visibility` its samples.
 // With `trace`, records its passes (core/image_pass_trace.h): the resolve's AOVs and its
-// object and normal planes written; the edge pass (every pixel's object and motion read, a
-// candidate's neighbour's object and depth, an edge test's 5 x 5 depths and normals; every
-// pixel's edge byte written); the mask pass (every pixel's velocity, a moving pixel's span of
-// edge bytes; every mask byte written); the reveal (a masked pixel's depth and object read, its
-// revealed colour written; the rays' own traffic through the scene is not recorded); then the
-// post-process's passes, whose gather reads each tap's object and revealed colour too.
+// object and normal planes written; the edge pass (every pixel's object and motion read; a moving
+// pixel's neighbour along its motion, its object, and where that differs both depths; a
+// candidate's 5 x 5 depths and normals; every pixel's edge byte written); the mask pass (every
+// pixel's velocity, a moving pixel's span of edge bytes; every mask byte written); the reveal
+// (every mask byte read, a masked pixel's depth and object, its revealed colour written; the
+// rays' own traffic through the scene is not recorded); then the post-process's passes, whose
+// gather reads each tap's object and revealed colour too.
 Image hybridMotionBlur(const ShadingContext& context, const ResolvedFrame& sharp,
                        const VisibilityBuffer& visibility, const HybridOptions& options,
                        PostprocessWork& post, HybridWork& work, ImagePassTrace* trace = nullptr);

@@ -27,12 +27,36 @@ Vec4 worldPoint(const ShadingContext& c, const SharpFrame& f, const Mat4& toWorl
     return toWorld * Vec4(p, 1.0f);
 }
 
+// Where the reprojection's passes are recorded (null: nowhere), and their planes.
+struct ReprojectionPlanes {
+    ImagePassTrace* trace = nullptr;
+    std::uint16_t parts[2]{}, sum = 0, output = 0;
+};
+
+ReprojectionPlanes declarePlanes(ImagePassTrace* trace, const VisibilityBuffer& v) {
+    if (!trace) return {};
+    const auto pixels = std::uint64_t(v.width()) * std::uint64_t(v.height());
+    const std::uint64_t samples = pixels * std::uint64_t(v.samplesPerPixel());
+    ReprojectionPlanes p{trace,
+                         {trace->addPlane("open sample parts", samples, kSamplePartBytes),
+                          trace->addPlane("close sample parts", samples, kSamplePartBytes)},
+                         trace->addPlane("accumulation", pixels, kReprojectionSumBytes),
+                         trace->addPlane("output", pixels, kResolvedImagePixelBytes)};
+    trace->beginPass("resolve sample parts");
+    for (const std::uint16_t parts : p.parts)
+        for (std::uint64_t i = 0; i < samples; ++i) trace->write(parts, i);
+    trace->beginPass("reproject");
+    return p;
+}
+
 // The accumulation buffer: per pixel, the weighted colours of the parts that landed there and
 // their total weight (a whole number when every sample is one opaque part).
 class Accumulation {
   public:
-    Accumulation(const Camera& camera, int width, int height, int steps)
+    Accumulation(const Camera& camera, int width, int height, int steps,
+                 const ReprojectionPlanes& planes)
         : camera_(camera),
+          planes_(planes),
           width_(width),
           height_(height),
           sum_(std::size_t(width) * std::size_t(height), Vec3(0)),
@@ -58,21 +82,30 @@ class Accumulation {
                 std::size_t(int(raster.y)) * std::size_t(width_) + std::size_t(int(raster.x));
             sum_[pixel] += weight * color;
             weight_[pixel] += weight;
+            if (planes_.trace) planes_.trace->update(planes_.sum, pixel);
         }
     }
 
     // Each pixel's weighted mean; holes (nothing of any weight landed) blend the two frames.
     Image resolve(const Image& openPixels, const Image& closePixels, ReprojectionWork& work) const {
         Image out(width_, height_);
+        ImagePassTrace* trace = planes_.trace;
+        if (trace) trace->beginPass("resolve accumulation");
         for (int y = 0; y < height_; ++y) {
             for (int x = 0; x < width_; ++x) {
                 const std::size_t i = std::size_t(y) * std::size_t(width_) + std::size_t(x);
+                if (trace) trace->read(planes_.sum, i);
                 if (weight_[i] > 0.0f) {
                     out.set(x, y, sum_[i] / weight_[i]);
-                    continue;
+                } else {
+                    ++work.holes;
+                    out.set(x, y, 0.5f * (openPixels.get(x, y) + closePixels.get(x, y)));
+                    if (trace)
+                        trace->read(std::uint16_t(ImagePassTrace::resolvedImage(0) |
+                                                  ImagePassTrace::resolvedImage(1)),
+                                    i);
                 }
-                ++work.holes;
-                out.set(x, y, 0.5f * (openPixels.get(x, y) + closePixels.get(x, y)));
+                if (trace) trace->write(planes_.output, i);
             }
         }
         return out;
@@ -80,6 +113,7 @@ class Accumulation {
 
   private:
     const Camera& camera_;
+    ReprojectionPlanes planes_;
     int width_, height_;
     std::vector<Mat4> views_;
     std::vector<Vec3> sum_;
@@ -116,7 +150,7 @@ class Accumulation {
 }
 
 void addFrame(const ShadingContext& c, const SharpFrame& f, Accumulation& into,
-              ReprojectionWork& work) {
+              ReprojectionWork& work, ImagePassTrace* trace, std::uint16_t parts) {
     const VisibilityBuffer& v = *f.visibility;
     const Mat4 toWorld = glm::inverse(c.camera->worldToCameraAt(f.time));
     for (int y = 0; y < v.height(); ++y) {
@@ -124,6 +158,7 @@ void addFrame(const ShadingContext& c, const SharpFrame& f, Accumulation& into,
             for (int s = 0; s < v.samplesPerPixel(); ++s) {
                 ++work.samples;
                 const std::size_t i = v.index(x, y, s);
+                if (trace) trace->read(parts, i);
                 const bool layered = f.layers && f.layers->count(i) > 0;
                 const float through =
                     layered ? addLayers(c, f, toWorld, x, y, s, into, work) : 1.0f;
@@ -142,10 +177,13 @@ PATCHSIM_WORK_DEFINE(ReprojectionWork, ReprojectionCounters, reprojectionCounter
 
 Image reprojectSamples(const ShadingContext& c, const SharpFrame& open, const SharpFrame& close,
                        const Image& openPixels, const Image& closePixels,
-                       const ReprojectionOptions& o, ReprojectionWork& work) {
+                       const ReprojectionOptions& o, ReprojectionWork& work,
+                       ImagePassTrace* trace) {
+    const ReprojectionPlanes planes = declarePlanes(trace, *open.visibility);
     Accumulation sum(*c.camera, open.visibility->width(), open.visibility->height(),
-                     std::max(2, o.cameraSteps));
-    for (const SharpFrame* f : {&open, &close}) addFrame(c, *f, sum, work);
+                     std::max(2, o.cameraSteps), planes);
+    addFrame(c, open, sum, work, trace, planes.parts[0]);
+    addFrame(c, close, sum, work, trace, planes.parts[1]);
     return sum.resolve(openPixels, closePixels, work);
 }
 

@@ -26,6 +26,7 @@
 
 #include "backend/images/image.h"
 #include "backend/shading/t_fragment.h"
+#include "core/image_pass_trace.h"
 #include "core/samples.h"
 #include "core/work_counts.h"
 #include "rasterizer/common/transparent_layers.h"
@@ -72,8 +73,20 @@ struct SharpFrame {
     float time;  // 0 or 1
 };
 
+// Each sample's part as the reprojection reads it: its colour (RGBA at 16 bits) and its world
+// position or direction (four fp32).
+inline constexpr std::uint32_t kSamplePartBytes = 8 + 16;
+inline constexpr std::uint32_t kReprojectionSumBytes = 16;  // RGB sum and weight, fp32
+
+// With `trace` (whose planes 0 and 1 are the open and close frames' resolved images), records
+// its passes (core/image_pass_trace.h): the resolves' sample parts written (every sample of
+// both frames); the reprojection (each sample's part read, and for each camera it lands in, the
+// accumulation buffer's pixel updated); and the accumulation's resolve (every pixel's sum read,
+// a hole's two frame pixels, every output pixel written). Opaque frames only: a transparent
+// layer's part is not recorded.
 Image reprojectSamples(const ShadingContext& context, const SharpFrame& open,
                        const SharpFrame& close, const Image& openPixels, const Image& closePixels,
-                       const ReprojectionOptions& options, ReprojectionWork& work);
+                       const ReprojectionOptions& options, ReprojectionWork& work,
+                       ImagePassTrace* trace = nullptr);
 
 }  // namespace patchsim

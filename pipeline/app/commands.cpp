@@ -541,7 +541,8 @@ std::vector<SweepVariant> sweepVariants(const JobSettings& s) {
 namespace {
 
 // A sweep compares methods: with the memory system modelled, each must be charged its traffic
-// on every scene. An accumulation buffer's trace is dropped for transparent frames (render.cpp).
+// on every scene. An opaque-only trace (interleaved, reprojection) is dropped for transparent
+// frames (render.cpp).
 void checkSweepMethodsTraceMemory(const std::vector<SweepVariant>& variants,
                                   const std::vector<SweepScene>& scenes,
                                   const EffectOverrides& overrides, const std::string& hardware) {
@@ -556,7 +557,7 @@ void checkSweepMethodsTraceMemory(const std::vector<SweepVariant>& variants,
     probe.film.width = probe.film.height = probe.film.samplesPerPixel = 1;
     for (const SweepVariant& v : variants) {
         const std::unique_ptr<MemoryTrace> trace = v.method->makeMemoryTrace(probe);
-        if ((!trace || (transparent && trace->accumulation())) &&
+        if ((!trace || (transparent && trace->opaqueOnly())) &&
             missing.find(v.method->name()) == std::string::npos) {
             missing += (missing.empty() ? "" : ", ") + std::string(v.method->name());
             ++count;

@@ -162,9 +162,10 @@ RenderResult renderScene(const SceneDesc& scene, const RenderOptions& options) {
     if (options.memoryTrace) {
         result.memoryTrace = method.makeMemoryTrace(scene);
         result.sampleSet = samples;  // where the samples lie, for depth compression
-        // An accumulation buffer's transparent layers, a pass per sample index, are not
-        // modelled: such a frame records nothing, and its report says memory is not modelled.
-        if (result.memoryTrace && result.transparent && result.memoryTrace->accumulation()) {
+        // What some methods do with the layers is not modelled (an accumulation buffer's pass
+        // per sample index, reprojection's layer parts): such a frame records nothing, and its
+        // report says memory is not modelled.
+        if (result.memoryTrace && result.transparent && result.memoryTrace->opaqueOnly()) {
             result.memoryTrace.reset();
             result.memoryTraceDropped = true;
         }

@@ -35,7 +35,8 @@ void ReprojectionFrame::renderCloseFrame() {
                       sharpFrameRasterized(in_.effects),
                       {close_.get(), closeLayers_.get(), nullptr, 0},
                       FramePartition{},
-                      in_.options->progress},
+                      in_.options->progress,
+                      in_.memoryTrace ? &in_.memoryTrace->addLaterFrame() : nullptr},
                      ops_);
 }
 
@@ -59,7 +60,8 @@ void ReprojectionFrame::finish(ResolvedFrame& frame) {
         frame.color = reprojectSamples(
             context, {in_.targets.opaque, in_.targets.transparent, &openColors, in_.samples, 0.0f},
             {close_.get(), closeLayers_.get(), &closeColors, closeSamples_.get(), 1.0f},
-            frame.color, closePixels, o.reprojection, work);
+            frame.color, closePixels, o.reprojection, work,
+            in_.memoryTrace ? &in_.memoryTrace->startImagePasses() : nullptr);
     }
     work.flush();
     // The reprojection passes run once the frames are shaded: charged with the last patch.
@@ -77,9 +79,12 @@ class ReprojectionMethod : public SharpFrameMethod {
         return std::make_unique<ReprojectionFrame>(in);
     }
 
-    // Not recorded yet: its second frame and its reprojection passes would go unseen.
-    std::unique_ptr<MemoryTrace> makeMemoryTrace(const SceneDesc&) const override {
-        return nullptr;
+    // Both sharp frames and the passes; a transparent frame's layers, reprojected as parts of
+    // their samples, are not recorded, so such a frame records nothing.
+    std::unique_ptr<MemoryTrace> makeMemoryTrace(const SceneDesc& scene) const override {
+        std::unique_ptr<MemoryTrace> trace = SharpFrameMethod::makeMemoryTrace(scene);
+        trace->setOpaqueOnly();
+        return trace;
     }
 
   protected:

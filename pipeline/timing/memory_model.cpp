@@ -536,15 +536,20 @@ void replayAccumulation(const MemoryTrace& trace, const SurfaceLayout& layout,
     memory.request(MemoryClass::ImageWrites, pixels * kImagePixelBytes);
 }
 
-// The front end's traffic and every pass, in the order of `order` (MemoryOrder). `frontEnd`:
-// fetch each patch and write its spill too (not in the repeats of a warm frame).
+// What a frame's replay runs before a patch's passes: the input assembler's fetch and the
+// hierarchy's spill written. A warm repeat runs neither; a later frame rebuilds the hierarchies
+// from the front end's output, which it does not fetch again.
+struct FrontEndTraffic {
+    bool fetch = true, spills = true;
+};
+
+// The front end's traffic and every pass, in the order of `order` (MemoryOrder).
 void replayPasses(const MemoryTrace& trace, const SurfaceLayout& layout, const Spills& spills,
                   const InputBuffers& inputs, LayerBuffer& layers, MemoryOrder order,
-                  std::size_t patches, bool frontEnd, MemorySystem& memory) {
+                  std::size_t patches, FrontEndTraffic frontEnd, MemorySystem& memory) {
     const auto runFrontEnd = [&](std::size_t p) {
-        if (!frontEnd) return;
-        inputs.read(p, memory);
-        spills.write(p, memory);
+        if (frontEnd.fetch) inputs.read(p, memory);
+        if (frontEnd.spills) spills.write(p, memory);
     };
     if (order == MemoryOrder::Regions) {
         // Sort-middle: the front end runs ahead of the regions.
@@ -599,12 +604,14 @@ void replayResolve(const MemoryTrace& trace, const SurfaceLayout& layout, const 
 // 4 KiB boundary. Every access goes through the image cache.
 class ImagePlanes {
   public:
-    ImagePlanes(const ImagePassTrace* trace, std::uint64_t imageBase, std::uint64_t base)
+    // `imageBases`: where each resolved frame's image lies.
+    ImagePlanes(const ImagePassTrace* trace, const std::vector<std::uint64_t>& imageBases,
+                std::uint64_t base)
         : trace_(trace), end_(base) {
         if (!trace_) return;
         for (const ImagePlane& plane : trace_->planes()) {
-            if (bases_.empty()) {
-                bases_.push_back(imageBase);
+            if (bases_.size() < std::size_t(trace_->resolvedFrames())) {
+                bases_.push_back(imageBases.at(bases_.size()));
                 continue;
             }
             bases_.push_back(end_);
@@ -613,21 +620,30 @@ class ImagePlanes {
     }
     std::uint64_t endAddress() const { return end_; }
 
+    // Consecutive accesses of a pass to one line of a plane are one access, plane by plane (a
+    // pass reads its planes as separate streams: a tap's colour, depth and velocity lie in
+    // three lines, and the next tap's colour most often in the first again).
     void replay(std::size_t patch, MemorySystem& memory) const {
         if (!trace_) return;
         const std::vector<ImagePlane>& planes = trace_->planes();
+        using LastLines = std::array<std::array<std::uint64_t, 2>, kMaxImagePlanes>;
         for (const ImagePass& pass : trace_->passes()) {
             memory.newPass();
+            LastLines last;
+            for (auto& plane : last) plane.fill(CacheModel::kEmpty);
             for (std::size_t i = 0; i < pass.elements.size(); ++i) {
                 const std::uint16_t mask = pass.planes[i];
-                const bool write = (mask & kImageWrite) != 0;
+                const bool write = (mask & (kImageWrite | kImageUpdate)) != 0;
                 for (std::size_t p = 0; p < planes.size(); ++p) {
                     if (!(mask >> p & 1u)) continue;
                     const std::uint64_t at =
                         bases_[p] + std::uint64_t(pass.elements[i]) * planes[p].elementBytes;
                     for (std::uint64_t line = memory.lineOf(at);
-                         line <= memory.lineOf(at + planes[p].elementBytes - 1); ++line)
+                         line <= memory.lineOf(at + planes[p].elementBytes - 1); ++line) {
+                        if (line == last[p][write]) continue;
+                        last[p][write] = line;
                         memory.access(CacheClient::Image, line, write, patch);
+                    }
                 }
             }
             memory.request(MemoryClass::ImagePassReads, trace_->passBytes(pass, false));
@@ -650,7 +666,8 @@ const char* memoryClassDefinition(MemoryClass c) {
     return kClassInfo[std::size_t(c)].definition;
 }
 
-SurfaceLayout::SurfaceLayout(int width, int height, int samplesPerPixel, int surfaceTile)
+SurfaceLayout::SurfaceLayout(int width, int height, int samplesPerPixel, int surfaceTile,
+                             std::uint64_t base)
     : width_(width),
       height_(height),
       spp_(samplesPerPixel),
@@ -659,7 +676,8 @@ SurfaceLayout::SurfaceLayout(int width, int height, int samplesPerPixel, int sur
     const auto blocksY = std::uint64_t((height + surfaceTile - 1) / surfaceTile);
     samplesPadded_ = std::uint64_t(blocksX_) * blocksY * std::uint64_t(tile_) *
                      std::uint64_t(tile_) * std::uint64_t(spp_);
-    visibilityBase_ = alignUp(samplesPadded_ * kDepthBytes);
+    depthBase_ = base;
+    visibilityBase_ = alignUp(base + samplesPadded_ * kDepthBytes);
     imageBase_ = alignUp(visibilityBase_ + samplesPadded_ * kVisibilityBytes);
 }
 
@@ -699,7 +717,8 @@ MemoryReport finishReplay(const MemoryTrace& trace, const MemoryConfig& config,
 
 // The accumulation buffer's frame (memory_model.h): surfaces at 1 spp, the accumulation buffer
 // after them, then the scene's buffers; no layers (transparent frames are not recorded), no
-// spills (the bounding methods build no hierarchy) and no depth compression.
+// spills (the bounding methods build no hierarchy), no depth compression and no image-space
+// passes (the interleaved method runs none).
 MemoryReport simulateAccumulation(const MemoryTrace& trace, const MemoryConfig& config,
                                   const FrameMemoryInputs& frame) {
     const SurfaceLayout layout(trace.width(), trace.height(), 1, config.surfaceTile);
@@ -708,17 +727,15 @@ MemoryReport simulateAccumulation(const MemoryTrace& trace, const MemoryConfig& 
         frame.fetch,
         alignUp(accumulation + std::uint64_t(trace.width()) * std::uint64_t(trace.height()) *
                                    kAccumulationPixelBytes));
-    const ImagePlanes images(trace.imagePasses(), layout.imageAddress(0, 0), inputs.endAddress());
     const std::size_t patches = std::max(frame.patchCount, frame.lastPatch + 1);
     const std::uint64_t depthBlockBytes =
         std::uint64_t(config.surfaceTile) * std::uint64_t(config.surfaceTile) * kDepthBytes;
     const std::vector<double> uncompressed;  // a pass's depth lives one pass: not compressed
-    MemorySystem memory(config, images.endAddress(), patches, uncompressed, depthBlockBytes);
+    MemorySystem memory(config, inputs.endAddress(), patches, uncompressed, depthBlockBytes);
     inputs.markInDram(memory);
     for (int f = 0; f < frame.frames; ++f)
         replayAccumulation(trace, layout, inputs, accumulation, config.order, patches,
                            frame.lastPatch, f == 0, memory);
-    images.replay(frame.lastPatch, memory);
     return finishReplay(trace, config, frame, memory);
 }
 
@@ -736,12 +753,34 @@ MemoryReport simulateMemory(const MemoryTrace& trace, const MemoryConfig& config
                                           std::uint64_t(config.surfaceTile) *
                                           std::uint64_t(trace.samplesPerPixel()) * kDepthBytes;
     const InputBuffers inputs(frame.fetch, spills.endAddress());
-    const ImagePlanes images(trace.imagePasses(), layout.imageAddress(0, 0), inputs.endAddress());
+    // A later frame's surfaces and layers follow the scene's buffers, frame after frame (its
+    // LayerBuffer keeps a reference to its layout: no reallocation).
+    const std::vector<MemoryTrace>& later = trace.laterFrames();
+    std::vector<SurfaceLayout> laterLayouts;
+    std::vector<LayerBuffer> laterLayers;
+    laterLayouts.reserve(later.size());
+    laterLayers.reserve(later.size());
+    std::vector<std::uint64_t> imageBases{layout.imageAddress(0, 0)};
+    std::uint64_t end = inputs.endAddress();
+    for (const MemoryTrace& t : later) {
+        const SurfaceLayout& l = laterLayouts.emplace_back(
+            t.width(), t.height(), t.samplesPerPixel(), config.surfaceTile, end);
+        end = laterLayers.emplace_back(t, l, alignUp(l.endAddress())).endAddress();
+        imageBases.push_back(l.imageAddress(0, 0));
+    }
+    const ImagePlanes images(trace.imagePasses(), imageBases, end);
+    // A later frame's depth lies past the blocks `depthScale` describes: uncompressed.
     MemorySystem memory(config, images.endAddress(), patches, frame.depthScale, depthBlockBytes);
     inputs.markInDram(memory);
     for (int f = 0; f < frame.frames; ++f)
-        replayPasses(trace, layout, spills, inputs, layers, config.order, patches, f == 0, memory);
+        replayPasses(trace, layout, spills, inputs, layers, config.order, patches, {f == 0, f == 0},
+                     memory);
     replayResolve(trace, layout, layers, frame.lastPatch, memory);
+    for (std::size_t k = 0; k < later.size(); ++k) {
+        replayPasses(later[k], laterLayouts[k], spills, inputs, laterLayers[k], config.order,
+                     patches, {false, true}, memory);
+        replayResolve(later[k], laterLayouts[k], laterLayers[k], frame.lastPatch, memory);
+    }
     images.replay(frame.lastPatch, memory);
     return finishReplay(trace, config, frame, memory);
 }

@@ -57,10 +57,16 @@
 // replayed this way (the render records no trace for them), and depth is not compressed. A
 // warm repeat (FrameMemoryInputs::frames) runs every index again without the fetches.
 //
+// A later frame (MemoryTrace::laterFrames: reprojection's frame at shutter close) has surfaces
+// and layers of its own after the scene's buffers, laid out as the first frame's; its passes
+// follow the first frame's resolve, without the fetch (the front end's output is reused) but with
+// the spills written again (its hierarchies are built again), then its resolve.
+//
 // An image-space method's full-screen passes (MemoryTrace::imagePasses, core/image_pass_trace.h)
-// follow the resolve, access by access through the image cache: plane 0 is the resolved image
-// where the resolve wrote it, the method's other planes lie after the scene's buffers, row-major,
-// each on a 4 KiB boundary.
+// follow the resolves, access by access through the image cache: the first planes are the
+// resolved images where the resolves wrote them, the method's other planes lie after the later
+// frames, row-major, each on a 4 KiB boundary. Consecutive accesses of a pass to one line of a
+// plane are one access.
 //
 // A patch whose hierarchy outgrows the on-chip scratch budget spills the excess: written once
 // through the LLC when the hierarchy is built (before the tiles, in patch order), read again
@@ -114,6 +120,8 @@ inline constexpr std::uint32_t kDepthBytes = 4, kVisibilityBytes = 28, kImagePix
 inline constexpr std::uint32_t kIndexBytes = 4, kControlPointBytes = 12;
 inline constexpr std::uint32_t kLayerHeaderBytes = 4, kLayerBytes = 32;
 inline constexpr std::uint32_t kAccumulationPixelBytes = 16;  // RGBA at 32 bits
+static_assert(kImagePixelBytes == kResolvedImagePixelBytes,
+              "an image-space pass reads the resolved image where the resolve wrote it");
 
 // What the input assembler fetches for each patch, in patch order: its control points' indices
 // into the scene's vertex buffer (every object's cage vertices, object after object).
@@ -152,10 +160,12 @@ struct MemoryReport {
 // Where the per-sample surfaces and the image lie (see the essay above).
 class SurfaceLayout {
   public:
-    SurfaceLayout(int width, int height, int samplesPerPixel, int surfaceTile);
+    // `base`: where the depth surface starts (a later frame's surfaces lie after the first's).
+    SurfaceLayout(int width, int height, int samplesPerPixel, int surfaceTile,
+                  std::uint64_t base = 0);
     std::uint64_t sampleIndex(int x, int y, int sample) const;
     std::uint64_t depthAddress(int x, int y, int s) const {
-        return sampleIndex(x, y, s) * kDepthBytes;
+        return depthBase_ + sampleIndex(x, y, s) * kDepthBytes;
     }
     std::uint64_t visibilityAddress(int x, int y, int s) const {
         return visibilityBase_ + sampleIndex(x, y, s) * kVisibilityBytes;
@@ -169,7 +179,7 @@ class SurfaceLayout {
 
   private:
     int width_, height_, spp_, tile_, blocksX_;
-    std::uint64_t samplesPadded_, visibilityBase_, imageBase_;
+    std::uint64_t samplesPadded_, depthBase_, visibilityBase_, imageBase_;
 };
 
 // What the replay needs beside the trace: the patch count, the patch that takes the resolve and
