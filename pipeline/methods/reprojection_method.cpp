@@ -18,6 +18,7 @@ class ReprojectionFrame : public SharpMethodFrame {
     void renderCloseFrame();
 
     std::unique_ptr<SampleGenerator> closeSamples_;
+    MemoryTrace* closeTrace_ = nullptr;  // its surface traffic, when recorded
     std::unique_ptr<VisibilityBuffer> close_;
     std::unique_ptr<TransparentLayers> closeLayers_;
 };
@@ -25,6 +26,7 @@ class ReprojectionFrame : public SharpMethodFrame {
 void ReprojectionFrame::renderCloseFrame() {
     const FilmDesc& film = in_.scene->film;
     closeSamples_ = std::make_unique<SampleGenerator>(sharpFrameSamples(film, in_.effects, 1.0f));
+    if (in_.memoryTrace) closeTrace_ = &in_.memoryTrace->addLaterFrame();
     close_ = std::make_unique<VisibilityBuffer>(film.width, film.height, film.samplesPerPixel,
                                                 in_.camera().farPlane(), in_.workers);
     if (in_.targets.transparent)
@@ -36,12 +38,14 @@ void ReprojectionFrame::renderCloseFrame() {
                       {close_.get(), closeLayers_.get(), nullptr, 0},
                       FramePartition{},
                       in_.options->progress,
-                      in_.memoryTrace ? &in_.memoryTrace->addLaterFrame() : nullptr},
+                      closeTrace_},
                      ops_);
 }
 
 void ReprojectionFrame::finish(ResolvedFrame& frame) {
     renderCloseFrame();
+    // A still frame is the open frame itself: the close frame is rendered, not resolved.
+    if (closeTrace_) closeTrace_->setResolved(in_.effects.motion);
     ReprojectionWork work;
     if (in_.effects.motion) {
         const ShadingContext context = in_.shading();

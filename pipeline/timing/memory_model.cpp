@@ -779,7 +779,8 @@ MemoryReport simulateMemory(const MemoryTrace& trace, const MemoryConfig& config
     for (std::size_t k = 0; k < later.size(); ++k) {
         replayPasses(later[k], laterLayouts[k], spills, inputs, laterLayers[k], config.order,
                      patches, {false, true}, memory);
-        replayResolve(later[k], laterLayouts[k], laterLayers[k], frame.lastPatch, memory);
+        if (later[k].resolved())
+            replayResolve(later[k], laterLayouts[k], laterLayers[k], frame.lastPatch, memory);
     }
     images.replay(frame.lastPatch, memory);
     return finishReplay(trace, config, frame, memory);
