@@ -29,9 +29,8 @@ void ImagePassTrace::add(std::uint16_t planes, std::size_t element) {
     ImagePass& pass = passes_.back();
     if (!pass.elements.empty() && pass.elements.back() == element && pass.planes.back() == planes) {
         const std::uint64_t bytes = elementBytes(planes);
-        if ((planes & (kImageWrite | kImageUpdate)) == 0 || (planes & kImageUpdate) != 0)
-            pass.repeatedReadBytes += bytes;
-        if ((planes & (kImageWrite | kImageUpdate)) != 0) pass.repeatedWriteBytes += bytes;
+        if (accessReads(planes)) pass.repeatedReadBytes += bytes;
+        if (accessWrites(planes)) pass.repeatedWriteBytes += bytes;
         return;
     }
     pass.elements.push_back(std::uint32_t(element));
@@ -48,9 +47,7 @@ std::uint64_t ImagePassTrace::elementBytes(std::uint16_t planes) const {
 std::uint64_t ImagePassTrace::passBytes(const ImagePass& pass, bool writes) const {
     std::uint64_t bytes = writes ? pass.repeatedWriteBytes : pass.repeatedReadBytes;
     for (std::uint16_t planes : pass.planes) {
-        const bool counted =
-            (planes & kImageUpdate) != 0 || ((planes & kImageWrite) != 0) == writes;
-        if (counted) bytes += elementBytes(planes);
+        if (writes ? accessWrites(planes) : accessReads(planes)) bytes += elementBytes(planes);
     }
     return bytes;
 }

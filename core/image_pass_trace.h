@@ -43,6 +43,13 @@ struct ImagePass {
 
 inline constexpr std::uint16_t kImageWrite = 0x8000, kImageUpdate = 0x4000;
 inline constexpr int kMaxImagePlanes = 14;
+// An access reads its planes unless it is a plain write; it writes them if a write or an update.
+constexpr bool accessReads(std::uint16_t planes) {
+    return (planes & kImageWrite) == 0;
+}
+constexpr bool accessWrites(std::uint16_t planes) {
+    return (planes & (kImageWrite | kImageUpdate)) != 0;
+}
 inline constexpr std::uint32_t kResolvedImagePixelBytes = 8;  // RGBA at 16 bits
 
 class ImagePassTrace {

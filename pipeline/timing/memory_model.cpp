@@ -633,7 +633,7 @@ class ImagePlanes {
             for (auto& plane : last) plane.fill(CacheModel::kEmpty);
             for (std::size_t i = 0; i < pass.elements.size(); ++i) {
                 const std::uint16_t mask = pass.planes[i];
-                const bool write = (mask & (kImageWrite | kImageUpdate)) != 0;
+                const bool write = accessWrites(mask);
                 for (std::size_t p = 0; p < planes.size(); ++p) {
                     if (!(mask >> p & 1u)) continue;
                     const std::uint64_t at =
