@@ -42,13 +42,13 @@ Velocities pixelVelocities(const ResolvedFrame& f, float k) {
     return out;
 }
 
-// The longest velocity of each tile, then of each tile's 3 x 3 neighbourhood.
 // The tile planes' masks in a trace (0: not recorded).
 struct TilePlanes {
     ImagePassTrace* trace = nullptr;
     std::uint16_t velocity = 0, tileMax = 0, neighbourMax = 0;
 };
 
+// The longest velocity of each tile, then of each tile's 3 x 3 neighbourhood.
 std::vector<Vec2> neighbourMax(const Velocities& v, int k, int tilesX, int tilesY,
                                PostprocessWork& work, const TilePlanes& planes) {
     ImagePassTrace* trace = planes.trace;
