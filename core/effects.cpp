@@ -30,8 +30,11 @@ std::string describeMode(const Effects& e) {
                            ? "static geometry (static boxes, no time intervals), "
                              "shading over time (t per sample)"
                            : "static (static boxes, no time intervals, no t in samples)";
-    mode += e.defocus ? "; defocus (lens u,v per sample, two planes per tile side)"
-                      : "; pinhole (no lens samples, four side planes)";
+    mode += e.lensPlaneSamples()
+                ? "; defocus (lens u,v per sample, two planes per tile side, lens edge functions)"
+            : e.defocus ? "; defocus (lens u,v per sample, two planes per tile side)"
+            : e.motion  ? "; pinhole (no lens samples, four side planes)"
+                        : "; pinhole (no lens samples, four side planes, edge functions)";
     mode += e.transparency ? "; transparency (every hit kept, sorted and blended)"
                            : "; opaque (nearest hit only, no sort)";
     return mode;

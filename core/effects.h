@@ -23,6 +23,9 @@ struct Effects {
     // Nothing moves and there is no lens: a sample is a point in the screen plane, tested with
     // edge functions instead of a ray (rasterizer/common/screen_triangle.h).
     bool screenPlaneSamples() const { return !motion && !defocus; }
+    // A lens and nothing moving: a sample is a point (x, y, u, v), tested with edge functions of
+    // the triangle seen from its lens point (rasterizer/common/lens_triangle.h).
+    bool lensPlaneSamples() const { return !motion && defocus; }
 };
 
 struct EffectOverrides {

@@ -41,7 +41,11 @@
     X(TriangleSetups, "triangle_setups", RS, "Triangle screen bounds computed")                   \
     X(PostSamples, "post_samples", PS, "Pixels read by full-screen passes (image-space methods)") \
     X(EdgeSetups, "edge_setups", RS,                                                              \
-      "Static triangles set up for edge-function tests: three edges, tie rule, pixel box")
+      "Static triangles set up for edge-function tests: three edges, tie rule, pixel box")        \
+    X(LensEdgeTests, "lens_edge_tests", RS,                                                       \
+      "Samples (x, y, u, v) tested against a triangle's three edge functions seen from the lens") \
+    X(LensEdgeSetups, "lens_edge_setups", RS,                                                     \
+      "Triangles set up for the lens edge test: canonical edges, pixel box across the lens")
 
 namespace patchsim {
 

@@ -46,6 +46,15 @@ COSTS = [
      "from three snapped vertices: edge coefficients (6), twice the area (4), orientation and "
      "the flip (1 + 6), tie rule (9), area (1), box (8), small-triangle check (4), pixel "
      "rectangle (8), kind (2)"),
+    ("RS", "lens_edge_tests", 66, 16, "rasterizer/patent/screen_pass.cpp, common/lens_triangle.h",
+     "per edge the sample's offset from the edge's first vertex (2), the edge seen from the lens "
+     "point (4), the lens offset term (4) and the function (4): 14 each, 42; signs against the "
+     "canonical order and the all-or-none test (8); depth and barycentrics (12) and the depth range "
+     "(4), charged with every test"),
+    ("RS", "lens_edge_setups", 89, 48, "rasterizer/common/lens_triangle.cpp setupLensTriangle",
+     "from three projected vertices: canonical order per edge (9 compares, 3 swaps), differences "
+     "(9), each vertex's spread |c| R (3) and its box (12), min and max (12), to pixels with the "
+     "margin (16), guard band (8), floor and clamp (14), kind (3)"),
     ("RS", "nodes_built", 24, 96, "rasterizer/patent/patch_hierarchy.cpp",
      "a node's moving box from its two children: 6 min or max at each shutter end per child pair (bounds0, bounds1), two pairs"),
     ("OM", "depth_tests", 2, 32, "rasterizer/common/visibility_buffer.h",

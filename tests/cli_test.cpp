@@ -752,7 +752,7 @@ TEST(Cli, RenderWithHardwareConfigAndTrace) {
         "DS": {"throughput": {"evaluations": 1, "stencil_applications": 1}},
         "RS": {"throughput": {"nodes_built": 1, "plane_tests": 1, "time_intervals": 1, "samples_tested": 1,
                               "ray_box_tests": 0.01, "ray_triangle_tests": 1, "triangle_setups": 1,
-                              "edge_tests": 1, "edge_setups": 1}},
+                              "edge_tests": 1, "edge_setups": 1, "lens_edge_tests": 1, "lens_edge_setups": 1}},
         "PS": {"throughput": {"invocations": 1, "post_samples": 1}}, "OM": {"throughput": {"depth_tests": 1, "transparent_fragments": 1}}}})");
     const CommandResult r =
         run("render -q -o " + dir + " --hw " + hw + " --trace " + dir + "/trace.json");

@@ -41,6 +41,25 @@ SceneDesc randomStaticScene(std::mt19937& rng, int trial) {
     return scene;
 }
 
+// The eye inside a large static cube, tessellated coarsely, seen through `lens`.
+SceneDesc eyeInsideACube(const LensDesc& lens) {
+    SceneDesc scene;
+    scene.path = "crossing";
+    scene.film = {40, 30, 8, 5};
+    scene.camera.open = {{0, 0, 5}, {0, 0, 0}, {0, 1, 0}};
+    scene.camera.close = scene.camera.open;
+    scene.lens = lens;
+    scene.tessellation.factor = 2;
+    ObjectDesc cube;
+    cube.cagePath = test::sourcePath("scenes/cages/bilinear_cube.obj");
+    cube.open.translate = {0.3f, 0.2f, 4.0f};
+    cube.open.rotateDegrees = {10, 20, 0};
+    cube.open.scale = {6, 6, 6};
+    cube.close = cube.open;
+    scene.objects.push_back(cube);
+    return scene;
+}
+
 // The edge-function kernel on every SIMD target the host runs gives the reference's samples
 // (which the scalar test decides), on random static tori of small and large triangles.
 TEST(ScreenPass, EverySimdTargetGivesTheReferenceSamples) {
@@ -72,19 +91,7 @@ TEST(ScreenPass, EverySimdTargetGivesTheReferenceSamples) {
 // triangles tested with edge functions; the samples still agree, for the patch method and the
 // bounding baselines.
 TEST(ScreenPass, TrianglesThroughTheCameraPlaneTakeRaysAndMatchTheReference) {
-    SceneDesc scene;
-    scene.path = "crossing";
-    scene.film = {40, 30, 8, 5};
-    scene.camera.open = {{0, 0, 5}, {0, 0, 0}, {0, 1, 0}};
-    scene.camera.close = scene.camera.open;
-    scene.tessellation.factor = 2;
-    ObjectDesc cube;
-    cube.cagePath = test::sourcePath("scenes/cages/bilinear_cube.obj");
-    cube.open.translate = {0.3f, 0.2f, 4.0f};
-    cube.open.rotateDegrees = {10, 20, 0};
-    cube.open.scale = {6, 6, 6};
-    cube.close = cube.open;
-    scene.objects.push_back(cube);
+    SceneDesc scene = eyeInsideACube(LensDesc{});
     const RenderResult reference = renderWith(scene, "reference");
     // The large triangles take the kernel's double lanes: on every SIMD target.
     for (std::int64_t target : hwy::SupportedAndGeneratedTargets()) {
@@ -109,6 +116,77 @@ TEST(ScreenPass, TrianglesThroughTheCameraPlaneTakeRaysAndMatchTheReference) {
         test::compare(renderWith(scene, "interleaved"), renderWith(scene, "patch"));
     EXPECT_GT(b.hits, 0u);
     EXPECT_EQ(b.mismatches, 0u) << "interleaved";
+}
+
+// A defocus-only frame (a lens, nothing moving) is tested with the lens edge functions
+// (lens_triangle.h): on every SIMD target the patch method's kernel gives the reference's samples,
+// which the scalar test decides, on random static tori seen through lenses focused in front of,
+// on and behind them; no ray is cast and no time work is done; and the bounding baselines, which
+// use the same test, give the same samples.
+TEST(ScreenPass, EverySimdTargetGivesTheReferenceSamplesThroughALens) {
+    std::mt19937 rng(9);
+    std::uniform_real_distribution<float> aperture(0.05f, 0.4f), focus(2.0f, 9.0f);
+    std::vector<SceneDesc> scenes;
+    for (int trial = 0; trial < 6; ++trial) {
+        SceneDesc scene = randomStaticScene(rng, trial);
+        scene.lens = {aperture(rng), focus(rng)};
+        scenes.push_back(scene);
+    }
+    std::vector<RenderResult> references;
+    for (const SceneDesc& scene : scenes) references.push_back(renderWith(scene, "reference"));
+    for (std::int64_t target : hwy::SupportedAndGeneratedTargets()) {
+        hwy::SetSupportedTargetsForTest(target);
+        for (std::size_t k = 0; k < scenes.size(); ++k) {
+            CounterRegistry::instance().reset();
+            const RenderResult patch = renderWith(scenes[k], "patch");
+            const CounterValues c = CounterRegistry::instance().snapshot();
+            const test::Comparison cmp = test::compare(patch, references[k]);
+            EXPECT_GT(cmp.hits, 0u);
+            EXPECT_EQ(cmp.mismatches, 0u) << hwy::TargetName(target) << " trial " << k;
+            const RasterCounters& rs = rasterCounters();
+            EXPECT_GT(c[rs.lensEdgeTests], c[rs.visibilitySamples]);
+            EXPECT_GT(c[rs.lensTriangleSetups], 0);
+            EXPECT_EQ(c[rs.edgeTests], 0);
+            EXPECT_EQ(c[rs.raysCast], 0) << "every vertex is in front of the lens";
+            EXPECT_EQ(c[rs.rayBoxTests], 0);
+            EXPECT_EQ(c[rs.timeIntervals], 0);
+        }
+    }
+    hwy::SetSupportedTargetsForTest(0);
+    for (std::size_t k = 0; k < scenes.size(); ++k)
+        for (const char* bounding : {"triangle-bbox", "interval"}) {
+            const test::Comparison b =
+                test::compare(renderWith(scenes[k], bounding), references[k]);
+            EXPECT_EQ(b.mismatches, 0u) << bounding << " trial " << k;
+        }
+    // The interleaved method samples its own pattern (one lens point per pass, tested over the
+    // pixels seen from it): the patch method on that pattern.
+    SceneDesc scene = scenes[0];
+    scene.film.sampler = SamplePattern::Interleaved;
+    const test::Comparison b =
+        test::compare(renderWith(scene, "interleaved"), renderWith(scene, "patch"));
+    EXPECT_GT(b.hits, 0u);
+    EXPECT_EQ(b.mismatches, 0u) << "interleaved";
+}
+
+// The eye inside a large static cube seen through a lens: the triangles with a vertex behind the
+// lens plane have no lens form and take the tile's rays, as the reference's do, beside triangles
+// tested with the lens edge functions; the samples agree.
+TEST(ScreenPass, TrianglesThroughTheLensPlaneTakeRaysAndMatchTheReference) {
+    const SceneDesc scene = eyeInsideACube(LensDesc{0.2f, 3.0f});
+    const RenderResult reference = renderWith(scene, "reference");
+    CounterRegistry::instance().reset();
+    const RenderResult patch = renderWith(scene, "patch");
+    const CounterValues c = CounterRegistry::instance().snapshot();
+    const test::Comparison cmp = test::compare(patch, reference);
+    EXPECT_GT(cmp.hits, 0u);
+    EXPECT_EQ(cmp.mismatches, 0u);
+    EXPECT_GT(c[rasterCounters().raysCast], 0) << "some triangles should have no lens form";
+    EXPECT_GT(c[rasterCounters().lensEdgeTests], 0);
+    for (const char* bounding : {"triangle-bbox", "interval"}) {
+        const test::Comparison b = test::compare(renderWith(scene, bounding), reference);
+        EXPECT_EQ(b.mismatches, 0u) << bounding;
+    }
 }
 
 }  // namespace

@@ -9,23 +9,14 @@
 
 #include "core/ray.h"
 #include "rasterizer/common/watertight_triangle.h"
+#include "tests/test_camera.h"
 
 namespace patchsim {
 namespace {
 
-// 64 x 48 pixels, 60 degrees vertically, looking down -z from the origin.
+using test::atRaster;
 Camera testCamera() {
-    CameraDesc desc;
-    desc.open = {{0, 0, 0}, {0, 0, -1}, {0, 1, 0}};
-    desc.close = desc.open;
-    desc.fovYDegrees = 60.0f;
-    return Camera(desc, ShutterDesc{}, 64, 48);
-}
-
-// The camera-space point seen at raster (x, y) pixels, at depth `depth`.
-Vec3 atRaster(const Camera& camera, float x, float y, float depth) {
-    const Vec2 screen = rasterToScreen(camera, Vec2(x, y));
-    return {screen.x * depth, screen.y * depth, -depth};
+    return test::smallCamera();
 }
 
 bool covers(const ScreenTriangle& t, double x, double y) {

@@ -72,6 +72,13 @@ constexpr std::array<OpArithmetic, kOpCount> kArithmetic = {{
     // EdgeSetups (RS): edge coefficients, area, orientation, tie rule, box, charged in fp32
     // (the code computes them in double).
     {Op::EdgeSetups, 11, 8, 21, 0, 22, 0, 32, 36, "edges, area, orientation, tie rule, pixel box"},
+    // LensEdgeTests (RS): three edge functions of the sample's screen point and lens point (seven
+    // multiplies and seven adds each), the all-or-none sign test, then the depth and barycentrics.
+    {Op::LensEdgeTests, 25, 27, 7, 1, 3, 0, 32, 16,
+     "3 lens edge functions (7 mul, 7 add each); signs; depth and barycentrics"},
+    // LensEdgeSetups (RS): canonical edge order, differences, the box across the lens in pixels.
+    {Op::LensEdgeSetups, 29, 15, 39, 0, 6, 0, 32, 48,
+     "canonical order, 3 edge differences, box across the lens, guard band, pixels"},
 }};
 
 constexpr bool inOpOrder() {

@@ -165,6 +165,11 @@ BandSamples::BandSamples(const RayCaster& c, int width, int spp, int y0, int y1,
         subpixelX_.resize(n);
         subpixelY_.resize(n);
     }
+    const bool lensPlane = c.lensPlane();
+    if (lensPlane) {
+        lensPointX_.resize(n);
+        lensPointY_.resize(n);
+    }
     for (int y = y0; y < y1; ++y)
         for (int x = 0; x < width; ++x)
             for (int s = 0; s < spp; ++s) {
@@ -193,13 +198,17 @@ BandSamples::BandSamples(const RayCaster& c, int width, int spp, int y0, int y1,
                     subpixelX_[i] = float(sampleSubpixel(x, smp.pixelOffset.x));
                     subpixelY_[i] = float(sampleSubpixel(y, smp.pixelOffset.y));
                 }
+                if (lensPlane) {
+                    lensPointX_[i] = ray.origin.x;
+                    lensPointY_[i] = ray.origin.y;
+                }
             }
     if (strata > 0) orderByStratum(strata);
 }
 
-std::uint64_t BandSamples::bytesPerSample(bool strata, bool screenPlane) {
+std::uint64_t BandSamples::bytesPerSample(bool strata, bool planeSamples) {
     return kFloatArrays * sizeof(float) + sizeof(std::uint8_t) +
-           (strata ? 2 * sizeof(std::uint16_t) : 0) + (screenPlane ? 2 * sizeof(float) : 0);
+           (strata ? 2 * sizeof(std::uint16_t) : 0) + (planeSamples ? 2 * sizeof(float) : 0);
 }
 
 ShearedRay BandSamples::shearedRay(std::size_t i) const {

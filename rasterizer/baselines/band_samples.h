@@ -45,9 +45,10 @@ class BandSamples {
     // stratum (of `strata` equal parts of the shutter).
     BandSamples(const RayCaster& caster, int width, int spp, int y0, int y1, int strata);
 
-    // The bytes held per sample, with or without the stratum order, with or without sub-pixel
-    // positions (a static frame's, Effects::screenPlaneSamples).
-    static std::uint64_t bytesPerSample(bool strata, bool screenPlane);
+    // The bytes held per sample, with or without the stratum order, with or without the two
+    // floats a static frame's sub-pixel positions or a defocus-only frame's lens points take
+    // (Effects::screenPlaneSamples, Effects::lensPlaneSamples).
+    static std::uint64_t bytesPerSample(bool strata, bool planeSamples);
 
     std::size_t index(int row, int x, int s) const {
         return (std::size_t(row) * std::size_t(width_) + std::size_t(x)) * std::size_t(spp_) +
@@ -66,6 +67,10 @@ class BandSamples {
     bool hasSubpixels() const { return !subpixelX_.empty(); }
     double subpixelX(std::size_t i) const { return subpixelX_[i]; }
     double subpixelY(std::size_t i) const { return subpixelY_[i]; }
+    // In a defocus-only frame: the ray's origin on the lens (radius times the disk sample), the
+    // lens edge test's lens point (lens_triangle.h).
+    bool hasLensPoints() const { return !lensPointX_.empty(); }
+    Vec2 lensPoint(std::size_t i) const { return {lensPointX_[i], lensPointY_[i]}; }
     Vec2 lens(std::size_t i) const { return {lensU_[i], lensV_[i]}; }
     float time(std::size_t i) const { return time_[i]; }
     float lambdaMin(std::size_t i) const { return lambdaMin_[i]; }
@@ -93,8 +98,9 @@ class BandSamples {
     std::vector<float> depthPerLambda_, screenX_, screenY_, lensU_, lensV_;
     std::vector<std::uint8_t> axes_;
     std::vector<float> subpixelX_, subpixelY_;  // integers below 2^24, exact in float
-    std::vector<std::uint16_t> byStratum_;      // per pixel, spp sample indices in order of stratum
-    std::vector<std::uint16_t> stratum_;        // the stratum of each of those
+    std::vector<float> lensPointX_, lensPointY_;
+    std::vector<std::uint16_t> byStratum_;  // per pixel, spp sample indices in order of stratum
+    std::vector<std::uint16_t> stratum_;    // the stratum of each of those
 };
 
 // A triangle moving linearly over the shutter: its corners at shutter open and close.

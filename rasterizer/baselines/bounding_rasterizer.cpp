@@ -10,6 +10,7 @@
 #include "core/parallel.h"
 #include "rasterizer/baselines/band_samples.h"
 #include "rasterizer/common/conservative_margins.h"
+#include "rasterizer/common/lens_triangle.h"
 #include "rasterizer/common/screen_hull.h"
 #include "rasterizer/common/watertight_triangle.h"
 #include "rasterizer/common/z_culling.h"
@@ -160,6 +161,7 @@ class BandRasterizer {
         }
         const int spp = t_.opaque->samplesPerPixel();
         if (samples_.hasSubpixels() && screenTriangle(mesh, tri, work)) return;
+        if (samples_.hasLensPoints() && lensTriangle(mesh, tri, work)) return;
         switch (o_.method) {
             case Bounding::TriangleBBox:
                 if (o_.bound != TriangleBound::Box)
@@ -213,12 +215,25 @@ class BandRasterizer {
     // Samples [s0, s1) of the pixels of the triangle's box in this band.
     void screenSamples(const MovingMesh& mesh, std::uint32_t tri, const ScreenTriangle& t, int s0,
                        int s1, BoundingWork& work) {
-        for (int y = std::max(t.pixelY0, y0_); y < std::min(t.pixelY1, y1_); ++y)
-            for (int x = t.pixelX0; x < t.pixelX1; ++x)
+        const auto cover = [&](std::size_t i, float nearPlane, float depthMax, ScreenHit& hit) {
+            return coverSample(t, samples_.subpixelX(i), samples_.subpixelY(i), nearPlane, depthMax,
+                               hit);
+        };
+        work.edgeTests += edgeSamples(mesh, tri, {t.pixelX0, t.pixelY0, t.pixelX1, t.pixelY1}, s0,
+                                      s1, cover, work);
+    }
+
+    // Samples [s0, s1) of `pixels` in this band, each tested by `cover(i, near, depthMax, hit)`;
+    // returns how many.
+    template <class Cover>
+    std::int64_t edgeSamples(const MovingMesh& mesh, std::uint32_t tri, const PixelRect& pixels,
+                             int s0, int s1, const Cover& cover, BoundingWork& work) {
+        std::int64_t tested = 0;
+        for (int y = std::max(pixels.y0, y0_); y < std::min(pixels.y1, y1_); ++y)
+            for (int x = pixels.x0; x < pixels.x1; ++x)
                 for (int s = s0; s < s1; ++s) {
                     const std::size_t i = samples_.index(y - y0_, x, s);
-                    ++work.samplesTested;
-                    ++work.edgeTests;
+                    ++tested;
                     if (trace_) trace_->read(bandOffset_ + i);
                     const float perLambda = samples_.depthPerLambda(i);
                     const float depthMax =
@@ -226,10 +241,47 @@ class BandRasterizer {
                                       perLambda) *
                         perLambda;
                     ScreenHit hit;
-                    if (coverSample(t, samples_.subpixelX(i), samples_.subpixelY(i),
-                                    samples_.lambdaMin(i) * perLambda, depthMax, hit))
+                    if (cover(i, samples_.lambdaMin(i) * perLambda, depthMax, hit))
                         recordDepth(mesh, tri, i, hit.depth, hit.b1, hit.b2, work);
                 }
+        work.samplesTested += tested;
+        return tested;
+    }
+
+    // A defocus-only frame: every method's bound is the triangle's pixels across the lens (the
+    // interleaved method's, those seen from its pass's lens point), and its samples are tested
+    // with the lens edge functions (lens_triangle.h), as the patch method and the reference test
+    // them. False when the triangle has no lens form: it then takes the method's rays.
+    bool lensTriangle(const MovingMesh& mesh, std::uint32_t tri, BoundingWork& work) {
+        const std::uint32_t* v = &mesh.indices[3 * std::size_t(tri)];
+        const LensTriangle t = setupLensTriangle(c_.camera, c_.lens, mesh.position0[v[0]],
+                                                 mesh.position0[v[1]], mesh.position0[v[2]]);
+        if (t.kind == LensTriangle::Kind::NeedsRay) return false;
+        if (o_.method != Bounding::Interleaved) {
+            ++work.lensTriangleSetups;
+            if (t.kind == LensTriangle::Kind::Covers)
+                lensSamples(mesh, tri, t, t.pixels, 0, spp_, work);
+            return true;
+        }
+        for (int pass = 0; pass < spp_; ++pass) {
+            ++work.lensTriangleSetups;
+            if (t.kind != LensTriangle::Kind::Covers) continue;
+            const Vec2 l = c_.lens.radius * concentricDisk(c_.samples.sample(0, 0, pass).lens);
+            lensSamples(mesh, tri, t, lensPixelsFrom(c_.camera, t, l.x, l.y), pass, pass + 1, work);
+        }
+        return true;
+    }
+
+    // Samples [s0, s1) of `pixels` in this band.
+    void lensSamples(const MovingMesh& mesh, std::uint32_t tri, const LensTriangle& t,
+                     const LensPixels& pixels, int s0, int s1, BoundingWork& work) {
+        const auto cover = [&](std::size_t i, float nearPlane, float depthMax, ScreenHit& hit) {
+            const Vec2 screen = samples_.screen(i), lensPoint = samples_.lensPoint(i);
+            return coverLensSample(t, screen.x, screen.y, lensPoint.x, lensPoint.y, nearPlane,
+                                   depthMax, hit);
+        };
+        work.lensEdgeTests += edgeSamples(mesh, tri, {pixels.x0, pixels.y0, pixels.x1, pixels.y1},
+                                          s0, s1, cover, work);
     }
 
     // Every vertex nearer than the near plane (depth < near) at t=0 and at t=1. Each vertex moves
@@ -440,9 +492,9 @@ std::uint64_t boundingBandScratchBytes(int width, int height, int samplesPerPixe
         tallest = std::max(tallest, FramePartition::bandBegin(band + 1, height) -
                                         FramePartition::bandBegin(band, height));
     // Checked before the frame's effects are known: counted with a static frame's sub-pixel
-    // positions, the larger.
+    // positions (or a defocus-only frame's lens points), the larger.
     const std::uint64_t perSample =
-        BandSamples::bytesPerSample(method == Bounding::Interval, /*screenPlane=*/true);
+        BandSamples::bytesPerSample(method == Bounding::Interval, /*planeSamples=*/true);
     const auto atOnce = std::uint64_t(std::clamp(threads, 1, kBands));
     const std::uint64_t rowSamples = std::uint64_t(width) * std::uint64_t(samplesPerPixel);
     return atOnce *

@@ -81,6 +81,14 @@ bool parseTriangleBound(const std::string& name, TriangleBound& out);
       "Static frames: sample-triangle pairs tested with the three fixed-point edge functions "   \
       "(screen_triangle.h) instead of a ray",                                                    \
       Op::EdgeTests)                                                                             \
+    X(lensTriangleSetups, "Lens triangle setups", "triangles", Sum,                              \
+      "Defocus-only frames: triangles set up for the lens edge test (lens_triangle.h; once per " \
+      "triangle, per interleaved pass)",                                                         \
+      Op::LensEdgeSetups)                                                                        \
+    X(lensEdgeTests, "Lens edge tests", "tests", Sum,                                            \
+      "Defocus-only frames: sample-triangle pairs tested with the three lens edge functions "    \
+      "(lens_triangle.h) instead of a ray",                                                      \
+      Op::LensEdgeTests)                                                                         \
     X(samplesOutsideHull, "Samples outside the hull", "samples", Sum,                            \
       "Samples of the pixels a triangle's hull bound reaches found outside the hull by its 2D "  \
       "edge test, so not ray-tested (triangle-bbox with the hull or oriented-box bound)",        \

@@ -2,6 +2,7 @@
 
 #include "core/counters.h"
 #include "rasterizer/common/conservative_margins.h"
+#include "rasterizer/common/lens_triangle.h"
 #include "rasterizer/common/screen_triangle.h"
 #include "rasterizer/common/watertight_triangle_rounded.h"
 #include "rasterizer/patent/raster_work.h"
@@ -50,28 +51,55 @@ std::vector<ScreenTriangle> screenTriangles(const std::vector<MovingMesh>& meshe
     return out;
 }
 
+// The triangles of every mesh seen through the lens (defocus-only frames), in mesh order.
+std::vector<LensTriangle> lensTriangles(const std::vector<MovingMesh>& meshes, const Camera& camera,
+                                        const LensModel& lens) {
+    std::vector<LensTriangle> out;
+    for (const MovingMesh& mesh : meshes)
+        for (std::uint32_t tri = 0; tri < mesh.triangleCount(); ++tri) {
+            const std::uint32_t* v = &mesh.indices[3 * std::size_t(tri)];
+            out.push_back(setupLensTriangle(camera, lens, mesh.position0[v[0]],
+                                            mesh.position0[v[1]], mesh.position0[v[2]]));
+        }
+    return out;
+}
+
 // The sample's hit on a triangle: the screen test where the triangle has a screen form (static
-// frames), else the ray test. Both end at depth `depthMax` (the ray's parameter lambdaMax).
+// frames), the lens test where it has a lens form (defocus-only frames), else the ray test. All
+// end at depth `depthMax` (the ray's parameter lambdaMax).
 struct SampleTester {
     const ShearedRay& sheared;
     const Ray& ray;
-    const ScreenTriangle* screen;  // null: rays only
+    const ScreenTriangle* screen;  // null: no screen form
+    const LensTriangle* lensForm;  // null: no lens form
     const NumberFormat& triangleFormat;
     double subpixelX, subpixelY;
+    Vec2 screenPoint;  // the sample on the plane z = -1
     int x, y;
 
     bool hit(const MovingMesh& mesh, std::uint32_t tri, std::size_t index, float lambdaMax,
              VisibilityRecord& record) const {
-        if (screen == nullptr || screen[index].kind == ScreenTriangle::Kind::NeedsRay)
-            return hitTriangle(mesh, tri, sheared, ray, lambdaMax, triangleFormat, record);
-        const ScreenTriangle& t = screen[index];
-        if (t.kind == ScreenTriangle::Kind::Empty || x < t.pixelX0 || x >= t.pixelX1 ||
-            y < t.pixelY0 || y >= t.pixelY1)
-            return false;
         ScreenHit hit;
-        if (!coverSample(t, subpixelX, subpixelY, ray.lambdaMin * ray.depthPerLambda,
-                         lambdaMax * ray.depthPerLambda, hit))
-            return false;
+        if (screen != nullptr && screen[index].kind != ScreenTriangle::Kind::NeedsRay) {
+            const ScreenTriangle& t = screen[index];
+            if (t.kind == ScreenTriangle::Kind::Empty || x < t.pixelX0 || x >= t.pixelX1 ||
+                y < t.pixelY0 || y >= t.pixelY1)
+                return false;
+            if (!coverSample(t, subpixelX, subpixelY, ray.lambdaMin * ray.depthPerLambda,
+                             lambdaMax * ray.depthPerLambda, hit))
+                return false;
+        } else if (lensForm != nullptr && lensForm[index].kind != LensTriangle::Kind::NeedsRay) {
+            const LensTriangle& t = lensForm[index];
+            if (t.kind == LensTriangle::Kind::Empty || x < t.pixels.x0 || x >= t.pixels.x1 ||
+                y < t.pixels.y0 || y >= t.pixels.y1)
+                return false;
+            if (!coverLensSample(t, screenPoint.x, screenPoint.y, ray.origin.x, ray.origin.y,
+                                 ray.lambdaMin * ray.depthPerLambda, lambdaMax * ray.depthPerLambda,
+                                 hit))
+                return false;
+        } else {
+            return hitTriangle(mesh, tri, sheared, ray, lambdaMax, triangleFormat, record);
+        }
         record.depth = hit.depth;
         record.patch = mesh.patchId;
         record.triangle = tri;
@@ -94,20 +122,26 @@ void renderReferenceRows(const std::vector<MovingMesh>& meshes, const Camera& ca
     const std::vector<ScreenTriangle> screen = !motion && !(lens.radius > 0)
                                                    ? screenTriangles(meshes, camera)
                                                    : std::vector<ScreenTriangle>();
+    const std::vector<LensTriangle> lensForm = !motion && lens.radius > 0
+                                                   ? lensTriangles(meshes, camera, lens)
+                                                   : std::vector<LensTriangle>();
     for (int y = y0; y < y1; ++y) {
         for (int x = 0; x < buffer.width(); ++x) {
             for (int s = 0; s < buffer.samplesPerPixel(); ++s) {
                 const Sample smp = samples.sample(x, y, s);
                 const Vec2 raster = Vec2(float(x), float(y)) + smp.pixelOffset;
-                const Ray ray = makeCameraRay(camera, rasterToScreen(camera, raster),
-                                              concentricDisk(smp.lens), smp.time, lens);
+                const Vec2 screenPoint = rasterToScreen(camera, raster);
+                const Ray ray =
+                    makeCameraRay(camera, screenPoint, concentricDisk(smp.lens), smp.time, lens);
                 const ShearedRay sheared = shearRay(ray);
                 const SampleTester tester{sheared,
                                           ray,
                                           screen.empty() ? nullptr : screen.data(),
+                                          lensForm.empty() ? nullptr : lensForm.data(),
                                           triangleFormat,
                                           sampleSubpixel(x, smp.pixelOffset.x),
                                           sampleSubpixel(y, smp.pixelOffset.y),
+                                          screenPoint,
                                           x,
                                           y};
                 std::size_t first = 0;  // the mesh's first triangle in `screen`

@@ -19,6 +19,8 @@ struct RayCaster {
     // Nothing moves and there is no lens: samples are tested with edge functions
     // (screen_triangle.h), on the meshes' t=0 positions.
     bool screenPlane() const { return !motion && !(lens.radius > 0); }
+    // A lens and nothing moving: samples are tested with lens edge functions (lens_triangle.h).
+    bool lensPlane() const { return !motion && lens.radius > 0; }
 };
 
 // The ray of sample `s` of pixel (x, y), with the camera's near-to-far range.

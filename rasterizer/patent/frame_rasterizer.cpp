@@ -111,7 +111,8 @@ FrameRasterWork rasterizeFrame(const std::vector<MovingMesh>& meshes,
                              options.opaqueStartsEmpty,
                              // The geometry's effects, not the samples': a sharp frame of a moving
                              // scene (sharp_frame_method.h) samples one time of moving triangles.
-                             rasterizer.effects().screenPlaneSamples()};
+                             rasterizer.effects().screenPlaneSamples(),
+                             rasterizer.effects().lensPlaneSamples()};
     // One transparent-layer pool per worker.
     int threads = resolveThreadCount(options.threads);
     if (targets.transparent) threads = std::min(threads, targets.transparent->pools());

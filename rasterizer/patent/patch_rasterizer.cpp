@@ -1,5 +1,6 @@
 #include "rasterizer/patent/patch_rasterizer.h"
 
+#include "rasterizer/common/lens_triangle.h"
 #include "rasterizer/patent/branch_node.h"
 #include "rasterizer/patent/ray_stream.h"
 #include "rasterizer/patent/screen_bounds.h"
@@ -44,23 +45,29 @@ void PatchRasterizer::prepareGroup(const MovingMesh& mesh, const std::uint32_t* 
             : screenBounds(group.hierarchy, options_.boundsLevel, camera_, lens_);
     work.fullScreenBounds += bounds.fullScreen;
     group.tiles = tilesCovering(bounds, grid_);
-    if (effects_.screenPlaneSamples()) projectLeafVertices(mesh, group, work);
+    if (effects_.screenPlaneSamples() || effects_.lensPlaneSamples())
+        projectLeafVertices(mesh, group, work);
 }
 
 // The leaves whose triangles take the ray test (bit j: leaf j): every leaf, except in a static
-// frame, where only a triangle with no fixed-point screen form does (screen_triangle.h).
+// or defocus-only frame, where only a triangle with no fixed-point screen form
+// (screen_triangle.h) or no lens form (lens_triangle.h) does.
 std::uint64_t PatchRasterizer::leavesTestedWithRays(const MovingMesh& mesh,
                                                     const PatchHierarchy& h) const {
-    if (!effects_.screenPlaneSamples()) return ~std::uint64_t(0);
+    const bool screen = effects_.screenPlaneSamples(), lens = effects_.lensPlaneSamples();
+    if (!screen && !lens) return ~std::uint64_t(0);
+    const auto needsRay = [&](const Vec3& a, const Vec3& b, const Vec3& c) {
+        return screen ? setupScreenTriangle(camera_, a, b, c).kind == ScreenTriangle::Kind::NeedsRay
+                      : setupLensTriangle(camera_, lens_, a, b, c).kind ==
+                            LensTriangle::Kind::NeedsRay;
+    };
     std::uint64_t leaves = 0;
     for (int leaf = 0; leaf < h.leafCount(); ++leaf) {
         std::size_t count = 0;
         const std::uint32_t* triangles = h.leafTriangles(leaf, count);
         for (std::size_t k = 0; k < count; ++k) {
             const std::uint32_t* v = &mesh.indices[3 * std::size_t(triangles[k])];
-            if (setupScreenTriangle(camera_, mesh.position0[v[0]], mesh.position0[v[1]],
-                                    mesh.position0[v[2]])
-                    .kind == ScreenTriangle::Kind::NeedsRay) {
+            if (needsRay(mesh.position0[v[0]], mesh.position0[v[1]], mesh.position0[v[2]])) {
                 leaves |= std::uint64_t(1) << leaf;
                 break;
             }
@@ -69,20 +76,32 @@ std::uint64_t PatchRasterizer::leavesTestedWithRays(const MovingMesh& mesh,
     return leaves;
 }
 
-// The viewport transform of a static frame, once per vertex of each leaf: every tile the leaf
-// overlaps sets its triangles up from these (screen_pass.h).
+// The viewport transform of a static or defocus-only frame, once per vertex of each leaf: every
+// tile the leaf overlaps sets its triangles up from these (screen_pass.h, lens_pass.h).
 void PatchRasterizer::projectLeafVertices(const MovingMesh& mesh, Group& group,
                                           RasterWork& work) const {
     const PatchHierarchy& h = group.hierarchy;
-    group.screenVertices.resize(h.leafVertexTotal());
+    const bool lens = effects_.lensPlaneSamples();
+    if (lens) {
+        group.screenVertices.clear();
+        group.lensVertices.resize(h.leafVertexTotal());
+    } else {
+        group.lensVertices.clear();
+        group.screenVertices.resize(h.leafVertexTotal());
+    }
     for (int leaf = 0; leaf < h.leafCount(); ++leaf) {
         std::size_t count = 0;
         const std::uint32_t* vertices = h.leafVertices(leaf, count);
-        ScreenVertex* out = group.screenVertices.data() + h.leafVertexOffset(leaf);
-        for (std::size_t k = 0; k < count; ++k)
-            out[k] = projectToScreen(camera_, mesh.position0[vertices[k]]);
+        const std::size_t first = h.leafVertexOffset(leaf);
+        for (std::size_t k = 0; k < count; ++k) {
+            const Vec3& p = mesh.position0[vertices[k]];
+            if (lens)
+                group.lensVertices[first + k] = projectThroughLens(lens_, p);
+            else
+                group.screenVertices[first + k] = projectToScreen(camera_, p);
+        }
     }
-    work.screenVertices += std::int64_t(group.screenVertices.size());
+    work.screenVertices += std::int64_t(h.leafVertexTotal());
 }
 
 void PatchRasterizer::rasterizeTile(const MovingMesh& mesh, const Group& group, int tileX,
@@ -100,6 +119,7 @@ void PatchRasterizer::rasterizeTile(const MovingMesh& mesh, const Group& group, 
     const int branch = branchNode(options_.branchMethod, traversal, group.hierarchy.depth());
     StreamPass pass{&mesh, &group.hierarchy, &traversal, branch, options_.zCulling};
     pass.screenVertices = group.screenVertices.data();
+    pass.lensVertices = group.lensVertices.data();
     if (options_.rayBoxFormat != NumberFormat::fp32()) pass.rayBoxArithmetic = &rayBoxArithmetic_;
     if (options_.triangleFormat != NumberFormat::fp32())
         pass.triangleFormat = &options_.triangleFormat;
@@ -109,6 +129,8 @@ void PatchRasterizer::rasterizeTile(const MovingMesh& mesh, const Group& group, 
     }
     if (rays.subpixelX != nullptr)
         rasterizeScreenPass(rays, pass, camera_, work);
+    else if (rays.screenX != nullptr)
+        rasterizeLensPass(rays, pass, camera_, lens_, work);
     else
         traceRayStream(rays, pass, work);
 }

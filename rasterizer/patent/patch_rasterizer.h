@@ -24,6 +24,7 @@
 #include "core/rasterizer_options.h"
 #include "core/rounded_arithmetic.h"
 #include "core/samples.h"
+#include "rasterizer/common/lens_triangle.h"
 #include "rasterizer/common/screen_triangle.h"
 #include "rasterizer/common/tile_grid.h"
 #include "rasterizer/common/visibility_targets.h"
@@ -46,6 +47,9 @@ class PatchRasterizer {
         // A static frame's (Effects::screenPlaneSamples): each leaf's distinct vertices
         // projected and snapped (screen_triangle.h), in the order of the leaf vertex table.
         std::vector<ScreenVertex> screenVertices;
+        // A defocus-only frame's (Effects::lensPlaneSamples): the same vertices projected for
+        // the lens edge test (lens_triangle.h).
+        std::vector<LensVertex> lensVertices;
     };
     // `triangles`: one group of the mesh's hierarchyOrder, in that order; `leafTable`, the
     // group's leaf vertex table there, which the group shares and must not outlive (made for the

@@ -54,22 +54,30 @@
     X(samplesRejectedTime, "RS/Samples rejected by time", "samples", Sum,                          \
       "Samples outside the tile's [tmin, tmax], rejected without a ray")                           \
     X(raysCast, "RS/Rays cast", "rays", Sum,                                                       \
-      "Per-sample rays traversed from the branch node (static frames: only against triangles "     \
-      "with no screen form)")                                                                      \
+      "Per-sample rays traversed from the branch node (static and defocus-only frames: only "      \
+      "against triangles with no screen or lens form)")                                            \
     X(rayBoxTests, "RS/Ray-box tests", "tests", Sum,                                               \
       "Ray against a moving box at the sample's time (12 multiply-adds)", Op::RayBoxTests)         \
     X(rayTriangleTests, "RS/Ray-triangle tests", "tests", Sum,                                     \
       "Watertight ray-triangle tests on triangles blended to the sample's time",                   \
       Op::RayTriangleTests)                                                                        \
     X(screenVertices, "RS/Screen vertices", "vertices", Sum,                                       \
-      "Static frames: leaf vertices projected and snapped to fixed point, once per group (the "    \
-      "viewport transform, not charged)")                                                          \
+      "Static and defocus-only frames: leaf vertices projected (static: snapped to fixed point), " \
+      "once per group (the viewport transform, not charged)")                                      \
     X(screenTriangleSetups, "RS/Screen triangle setups", "triangles", Sum,                         \
       "Static frames: triangles of overlapping leaves snapped to fixed point and set up as edge "  \
       "functions, once per tile",                                                                  \
       Op::EdgeSetups)                                                                              \
     X(edgeTests, "RS/Edge tests", "tests", Sum,                                                    \
       "Static frames: samples tested against a triangle's three edge functions", Op::EdgeTests)    \
+    X(lensTriangleSetups, "RS/Lens triangle setups", "triangles", Sum,                             \
+      "Defocus-only frames: triangles of overlapping leaves set up for the lens edge test, once "  \
+      "per tile",                                                                                  \
+      Op::LensEdgeSetups)                                                                          \
+    X(lensEdgeTests, "RS/Lens edge tests", "tests", Sum,                                           \
+      "Defocus-only frames: samples (x, y, u, v) tested against a triangle's three edge "          \
+      "functions seen from their lens point",                                                      \
+      Op::LensEdgeTests)                                                                           \
     X(visibilitySamples, "RS/Visibility samples", "samples", Sum,                                  \
       "Ray hits nearer than the sample's z-buffer depth, sent to the back end", Op::DepthTests)    \
     X(transparentFragments, "OM/Transparent fragments", "fragments", Sum,                          \

@@ -25,6 +25,7 @@
 // the best the host supports, once per pass.
 
 #include "core/time_range.h"
+#include "rasterizer/common/lens_triangle.h"
 #include "rasterizer/common/moving_mesh.h"
 #include "rasterizer/common/screen_triangle.h"
 #include "rasterizer/common/transparent_layers.h"
@@ -52,6 +53,8 @@ struct StreamPass {
     int pool = 0;
     // A static frame's projected leaf vertices (PatchRasterizer::Group), for screen_pass.h.
     const ScreenVertex* screenVertices = nullptr;
+    // A defocus-only frame's projected leaf vertices, for lens_pass.h.
+    const LensVertex* lensVertices = nullptr;
     // rasterizer.ray_box_format narrower than fp32: the ray-box tests in its arithmetic, bounded
     // (moving_box_ray_rounded.h), lane by lane; null for the fp32 vector test.
     const RoundedArithmetic* rayBoxArithmetic = nullptr;

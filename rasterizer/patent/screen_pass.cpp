@@ -42,10 +42,12 @@ HWY_INLINE unsigned bitsOf(D d, hn::Mask<D> m) {
 template <bool kEveryHit, bool kCount>
 class ScreenPass {
   public:
-    ScreenPass(TileRays& rays, const StreamPass& pass, const Camera& camera, RasterWork& work)
+    ScreenPass(TileRays& rays, const StreamPass& pass, const Camera& camera, const LensModel& lens,
+               RasterWork& work)
         : rays_(rays),
           pass_(pass),
           camera_(camera),
+          lens_(lens),
           mesh_(*pass.mesh),
           work_(work),
           spp_(rays.samplesPerPixel()),
@@ -60,13 +62,21 @@ class ScreenPass {
             const int leaf = std::countr_zero(leaves);
             std::size_t count = 0;
             const std::uint32_t* triangles = h.leafTriangles(leaf, count);
-            const ScreenVertex* vertices = pass_.screenVertices + h.leafVertexOffset(leaf);
             const std::uint8_t* corners = h.leafCorners(leaf);
+            if (rays_.screenX != nullptr) {
+                const LensVertex* vertices = pass_.lensVertices + h.leafVertexOffset(leaf);
+                for (std::size_t k = 0; k < count; ++k)
+                    lensTriangle(triangles[k], vertices[corners[3 * k]],
+                                 vertices[corners[3 * k + 1]], vertices[corners[3 * k + 2]]);
+                continue;
+            }
+            const ScreenVertex* vertices = pass_.screenVertices + h.leafVertexOffset(leaf);
             for (std::size_t k = 0; k < count; ++k)
                 triangle(triangles[k], vertices[corners[3 * k]], vertices[corners[3 * k + 1]],
                          vertices[corners[3 * k + 2]]);
         }
         work_.edgeTests += edgeTests_;
+        work_.lensEdgeTests += lensEdgeTests_;
         finish();
     }
 
@@ -198,6 +208,88 @@ class ScreenPass {
         }
     }
 
+    // A defocus-only frame's triangle: set up for the lens edge test, then the samples of the
+    // pixels it can cover from the lens, within the tile.
+    void lensTriangle(std::uint32_t tri, const LensVertex& a, const LensVertex& b,
+                      const LensVertex& c) {
+        ++work_.lensTriangleSetups;
+        const LensTriangle t = setupLensTriangle(camera_, lens_, a, b, c);
+        if (t.kind == LensTriangle::Kind::NeedsRay) return withRays(tri);
+        if (t.kind == LensTriangle::Kind::Empty) return;
+        const TileRect& tile = rays_.rect();
+        const int x0 = std::max(t.pixels.x0, tile.x0), x1 = std::min(t.pixels.x1, tile.x1);
+        const int y0 = std::max(t.pixels.y0, tile.y0), y1 = std::min(t.pixels.y1, tile.y1);
+        if (x0 >= x1 || y0 >= y1) return;
+        const LensEdges e(t);
+        for (int y = y0; y < y1; ++y)
+            for (int x = x0; x < x1; ++x) lensPixel(e, tri, rays_.firstSampleOf(x, y));
+    }
+
+    // A lens triangle's constants as float vectors (lens_triangle.h's names).
+    struct LensEdges {
+        VF x[3], y[3], blur[3], dx[3], dy[3], dblur[3], inverseDepth[3];
+        bool flipped[3];
+        explicit LensEdges(const LensTriangle& t) {
+            const DF d;
+            for (int i = 0; i < 3; ++i) {
+                const int from = t.from[i];
+                x[i] = hn::Set(d, t.x[from]);
+                y[i] = hn::Set(d, t.y[from]);
+                blur[i] = hn::Set(d, t.blur[from]);
+                dx[i] = hn::Set(d, t.dx[i]);
+                dy[i] = hn::Set(d, t.dy[i]);
+                dblur[i] = hn::Set(d, t.dblur[i]);
+                inverseDepth[i] = hn::Set(d, t.inverseDepth[i]);
+                flipped[i] = t.flipped[i];
+            }
+        }
+        // lensEdgeFunction's operations, in its order: edge i oriented (negated when flipped),
+        // and whether its canonical side says inside for a counter-clockwise triangle.
+        VF oriented(DF d, int i, VF sx, VF sy, VF lx, VF ly, MF& positive) const {
+            const VF rx = hn::Sub(sx, x[i]), ry = hn::Sub(sy, y[i]);
+            const VF ex = hn::Neg(hn::Add(dy[i], hn::Mul(dblur[i], ly)));
+            const VF ey = hn::Add(dx[i], hn::Mul(dblur[i], lx));
+            const VF offset = hn::Mul(blur[i], hn::Sub(hn::Mul(lx, dy[i]), hn::Mul(ly, dx[i])));
+            const VF e = hn::Add(hn::Add(hn::Mul(rx, ex), hn::Mul(ry, ey)), offset);
+            const MF nonNegative = hn::Ge(e, hn::Zero(d));
+            positive = flipped[i] ? hn::Not(nonNegative) : nonNegative;
+            return flipped[i] ? hn::Neg(e) : e;
+        }
+    };
+
+    // coverLensSample (lens_triangle.h) for samples [first, first + spp), 16 at a time.
+    void lensPixel(const LensEdges& e, std::uint32_t tri, int first) {
+        const DF d;
+        const int lanes = int(hn::Lanes(d));
+        lensEdgeTests_ += spp_;
+        for (int i = 0; i < spp_; i += lanes) {
+            const int at = first + i;
+            const MF valid = hn::FirstN(d, std::size_t(std::min(lanes, spp_ - i)));
+            if (kCount) countTests(at, bitsOf(d, valid));
+            const VF sx = hn::LoadU(d, rays_.screenX + at), sy = hn::LoadU(d, rays_.screenY + at);
+            const VF lx = hn::LoadU(d, rays_.originX + at), ly = hn::LoadU(d, rays_.originY + at);
+            MF positive[3];
+            VF f[3];
+            for (int k = 0; k < 3; ++k) f[k] = e.oriented(d, k, sx, sy, lx, ly, positive[k]);
+            const MF all = hn::And(hn::And(positive[0], positive[1]), positive[2]);
+            const MF none = hn::Not(hn::Or(hn::Or(positive[0], positive[1]), positive[2]));
+            const MF inside = hn::And(valid, hn::Or(all, none));
+            if (hn::AllFalse(d, inside)) continue;
+            const VF w0 = hn::Mul(f[0], e.inverseDepth[0]);
+            const VF w1 = hn::Mul(f[1], e.inverseDepth[1]);
+            const VF w2 = hn::Mul(f[2], e.inverseDepth[2]);
+            const VF inverseSum = hn::Div(hn::Set(d, 1.0f), hn::Add(hn::Add(w0, w1), w2));
+            alignas(64) float depth[16], b1[16], b2[16];
+            hn::Store(hn::Mul(hn::Add(hn::Add(f[0], f[1]), f[2]), inverseSum), d, depth);
+            hn::Store(hn::Mul(w1, inverseSum), d, b1);
+            hn::Store(hn::Mul(w2, inverseSum), d, b2);
+            for (unsigned rest = bitsOf(d, inside); rest; rest &= rest - 1) {
+                const int lane = std::countr_zero(rest);
+                offer(at + lane, tri, {depth[lane], b1[lane], b2[lane]});
+            }
+        }
+    }
+
     // A covered sample's hit, kept if within its ray's range (the depth range of coverSample).
     void offer(int sample, std::uint32_t tri, const ScreenHit& hit) {
         if (rays_.trace != nullptr) rays_.trace->read(rays_.record[sample]);
@@ -271,24 +363,27 @@ class ScreenPass {
     TileRays& rays_;
     const StreamPass& pass_;
     const Camera& camera_;
+    const LensModel& lens_;
     const MovingMesh& mesh_;
     RasterWork& work_;
     const int spp_;
     const float near_;
     std::int64_t edgeTests_ = 0;
+    std::int64_t lensEdgeTests_ = 0;
 };
 
-void RasterizeImpl(TileRays& rays, const StreamPass& pass, const Camera& camera, RasterWork& work) {
+void RasterizeImpl(TileRays& rays, const StreamPass& pass, const Camera& camera,
+                   const LensModel& lens, RasterWork& work) {
     const bool everyHit = pass.transparent != nullptr;
     const bool counting = rays.work[0] != nullptr;
     if (everyHit && counting)
-        ScreenPass<true, true>(rays, pass, camera, work).run();
+        ScreenPass<true, true>(rays, pass, camera, lens, work).run();
     else if (everyHit)
-        ScreenPass<true, false>(rays, pass, camera, work).run();
+        ScreenPass<true, false>(rays, pass, camera, lens, work).run();
     else if (counting)
-        ScreenPass<false, true>(rays, pass, camera, work).run();
+        ScreenPass<false, true>(rays, pass, camera, lens, work).run();
     else
-        ScreenPass<false, false>(rays, pass, camera, work).run();
+        ScreenPass<false, false>(rays, pass, camera, lens, work).run();
 }
 
 }  // namespace HWY_NAMESPACE
@@ -302,7 +397,12 @@ HWY_EXPORT(RasterizeImpl);
 
 void rasterizeScreenPass(TileRays& rays, const StreamPass& pass, const Camera& camera,
                          RasterWork& work) {
-    HWY_DYNAMIC_DISPATCH(RasterizeImpl)(rays, pass, camera, work);
+    HWY_DYNAMIC_DISPATCH(RasterizeImpl)(rays, pass, camera, LensModel{}, work);
+}
+
+void rasterizeLensPass(TileRays& rays, const StreamPass& pass, const Camera& camera,
+                       const LensModel& lens, RasterWork& work) {
+    HWY_DYNAMIC_DISPATCH(RasterizeImpl)(rays, pass, camera, lens, work);
 }
 
 }  // namespace patchsim

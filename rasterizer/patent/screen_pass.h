@@ -16,6 +16,13 @@
 //
 // Work: `RS/Screen triangle setups` and `RS/Edge tests`; no ray, box test or time interval is
 // counted unless such a triangle takes rays.
+//
+// A defocus-only frame (Effects::lensPlaneSamples: a lens, nothing moving) is rasterized the same
+// way with the lens edge test (rasterizer/common/lens_triangle.h, after Laine and Karras 2011): a
+// sample is a point (x, y, u, v), each triangle of an overlapping leaf is set up once per tile
+// from its leaf's projected vertices, and the samples of the pixels it can cover from some point
+// of the lens are tested, 16 floats at a time, with the three edge functions of the triangle seen
+// from each sample's lens point. Work: `RS/Lens triangle setups` and `RS/Lens edge tests`.
 
 #include "core/camera.h"
 #include "rasterizer/patent/ray_stream.h"
@@ -27,5 +34,8 @@ namespace patchsim {
 // `rays` must be of a screen-plane frame (TileRayFrame::screenPlane).
 void rasterizeScreenPass(TileRays& rays, const StreamPass& pass, const Camera& camera,
                          RasterWork& work);
+// The same for a defocus-only frame (TileRayFrame::lensPlane), with the pass's lens vertices.
+void rasterizeLensPass(TileRays& rays, const StreamPass& pass, const Camera& camera,
+                       const LensModel& lens, RasterWork& work);
 
 }  // namespace patchsim

@@ -46,6 +46,10 @@ void SetupImpl(TileRays& r, const RayCameraConstants& c) {
         const VF sx =
             hn::Mul(hn::Mul(hn::Sub(hn::Div(hn::Mul(two, rasterX), width), one), tanHalf), aspect);
         const VF sy = hn::Mul(hn::Sub(one, hn::Div(hn::Mul(two, rasterY), height)), tanHalf);
+        if (r.screenX != nullptr) {
+            hn::Store(sx, d, r.screenX + i);
+            hn::Store(sy, d, r.screenY + i);
+        }
         VF ox = hn::Zero(d), oy = hn::Zero(d), dx = sx, dy = sy;
         if (c.lensRadius > 0) {
             ox = hn::Mul(radius, diskX);

@@ -63,11 +63,11 @@ TileRays::TileRays(const TileRayFrame& frame) : frame_(frame) {
                                          &shearY,   &shearZ,   &lensU,    &lensV,      &bestDepth,
                                          &bestB1,   &bestB2,   &rayEnd};
     for (int a = 0; a < kFloatArrays; ++a) *floatArrays[a] = floats_.get() + std::size_t(a) * n;
-    if (frame.screenPlane) {
+    if (frame.screenPlane || frame.lensPlane) {
         subpixels_ = hwy::AllocateAligned<float>(2 * (n + kMaxLanes));
         std::fill_n(subpixels_.get(), 2 * (n + kMaxLanes), 0.0f);  // vector reads past the end
-        subpixelX = subpixels_.get();
-        subpixelY = subpixels_.get() + n + kMaxLanes;
+        (frame.screenPlane ? subpixelX : screenX) = subpixels_.get();
+        (frame.screenPlane ? subpixelY : screenY) = subpixels_.get() + n + kMaxLanes;
     }
     ints_ = hwy::AllocateAligned<std::int32_t>(n * kIntArrays);
     std::int32_t** intArrays[kIntArrays] = {&axisX,     &axisY,  &axisZ,  &parallelAxes,
@@ -95,7 +95,7 @@ TileRays::TileRays(const TileRayFrame& frame) : frame_(frame) {
 }
 
 std::uint64_t TileRays::bytesFor(int tileSize, int samplesPerPixel, bool countPerSample,
-                                 bool generatesSamples, bool screenPlane) {
+                                 bool generatesSamples, bool planeSamples) {
     const auto pixels = std::uint64_t(tileSize) * std::uint64_t(tileSize);
     const std::uint64_t samples = pixels * std::uint64_t(samplesPerPixel);
     const std::uint64_t n = (samples + kMaxLanes - 1) / kMaxLanes * kMaxLanes;
@@ -107,7 +107,7 @@ std::uint64_t TileRays::bytesFor(int tileSize, int samplesPerPixel, bool countPe
     bytes += std::uint64_t(3 * 3 * kMaxLeafTriangles * kMaxLanes) * sizeof(float);  // vertices_
     bytes += samples * sizeof(std::uint16_t);                                       // bucket_
     if (generatesSamples) bytes += samples * (sizeof(Sample) + sizeof(Vec2));
-    if (screenPlane) bytes += 2 * (n + kMaxLanes) * sizeof(float);  // subpixelX, subpixelY
+    if (planeSamples) bytes += 2 * (n + kMaxLanes) * sizeof(float);  // subpixelX/Y or screenX/Y
     bytes +=
         pixels * (2 * sizeof(std::uint16_t) + sizeof(std::array<int, 2>) + sizeof(PixelSamples));
     bytes += std::uint64_t(kMaxTimeBuckets + 1) * sizeof(int);  // bucketBegin_
@@ -307,6 +307,7 @@ void TileRays::load(const TileRect& rect, const VisibilityBuffer& buffer) {
             std::numeric_limits<float>::quiet_NaN();
         record[i] = 0;
         if (frame_.screenPlane) subpixelX[i] = subpixelY[i] = 0.0f;
+        if (frame_.lensPlane) screenX[i] = screenY[i] = 0.0f;
     }
     const Camera& camera = *frame_.camera;
     computeRayConstants(*this, {float(camera.width()), float(camera.height()), camera.tanHalfFovY(),

@@ -66,6 +66,9 @@ struct TileRayFrame {
     // Nothing moves and there is no lens (Effects::screenPlaneSamples): each sample also keeps
     // its sub-pixel position for the edge-function test (screen_pass.h).
     bool screenPlane = false;
+    // A lens and nothing moving (Effects::lensPlaneSamples): each sample also keeps its screen
+    // position for the lens edge test (lens_pass.h).
+    bool lensPlane = false;
 };
 
 // The camera as the ray setup needs it (rasterToScreen, makeCameraRay).
@@ -83,10 +86,10 @@ class TileRays {
     explicit TileRays(const TileRayFrame& frame);
     // What that allocation comes to for tiles of `tileSize` pixels at `samplesPerPixel` (with
     // per-sample work kept, with the tile's samples generated rather than read from a table, and
-    // with sub-pixel positions kept):
+    // with sub-pixel positions or screen positions kept, `planeSamples`):
     // each rasterizer worker holds one, so a frame's memory budget counts it once per worker.
     static std::uint64_t bytesFor(int tileSize, int samplesPerPixel, bool countPerSample,
-                                  bool generatesSamples, bool screenPlane);
+                                  bool generatesSamples, bool planeSamples);
 
     // Makes the rays of tile `rect`; each sample's nearest hit so far comes from `buffer` (unless
     // the frame says it starts empty).
@@ -164,6 +167,10 @@ class TileRays {
     // (screen_triangle.h), padded like the other arrays, with room for a vector read past the end.
     float* subpixelX = nullptr;  // integers below 2^24, exact in float
     float* subpixelY = nullptr;
+    // With TileRayFrame::lensPlane: the sample's position on the plane z = -1 (rasterToScreen's,
+    // as the ray's), padded the same way; its lens point is the ray's origin (originX, originY).
+    float* screenX = nullptr;
+    float* screenY = nullptr;
     std::uint32_t* work[std::size_t(SampleWork::kCount)];  // only with countPerSample
 
     // Whether every ray shears along z (the fast path of the triangle test), and whether any
