@@ -216,10 +216,18 @@ TEST(BoundingRasterizer, TheHullBoundRayTestsASubsetOfTheBoxSamples) {
         if (box.byName("BB/Lens edge tests") > 0) {
             EXPECT_EQ(box.byName("BB/Ray-triangle tests"), 0) << path << ": a defocus-only frame";
             EXPECT_EQ(box.byName("BB/Samples tested"), box.byName("BB/Lens edge tests")) << path;
-            // Its set-ups are the lens test's (lens_edge_setups), one per triangle, and the bound
-            // is the triangle's pixels across the lens whatever bound is asked for.
+            // Its set-ups are the lens test's (lens_edge_setups), one per triangle; the hull of
+            // the vertices' circles of confusion narrows each row's pixels, which are then tested
+            // whole (no per-sample hull test), with the same samples found.
             EXPECT_GT(box.byName("BB/Lens triangle setups"), 0) << path;
             EXPECT_EQ(box.byName("BB/Triangle setups"), 0) << path;
+            CounterRegistry::instance().reset();
+            renderWith(scene, bbox, 0, TriangleBound::Hull);
+            const CounterValues hull = CounterRegistry::instance().snapshot();
+            EXPECT_EQ(hull.byName("BB/Samples outside the hull"), 0) << path;
+            EXPECT_LT(hull.byName("BB/Lens edge tests"), box.byName("BB/Lens edge tests")) << path;
+            EXPECT_EQ(hull.byName("BB/Visibility samples"), box.byName("BB/Visibility samples"))
+                << path;
             continue;
         }
         CounterRegistry::instance().reset();

@@ -223,14 +223,17 @@ class BandRasterizer {
                                       s1, cover, work);
     }
 
-    // Samples [s0, s1) of `pixels` in this band, each tested by `cover(i, near, depthMax, hit)`;
-    // returns how many.
+    // Samples [s0, s1) of `pixels` in this band (of each row's pixels `hull` reaches, if given),
+    // each tested by `cover(i, near, depthMax, hit)`; returns how many.
     template <class Cover>
     std::int64_t edgeSamples(const MovingMesh& mesh, std::uint32_t tri, const PixelRect& pixels,
-                             int s0, int s1, const Cover& cover, BoundingWork& work) {
+                             int s0, int s1, const Cover& cover, BoundingWork& work,
+                             const ScreenHull* hull = nullptr) {
         std::int64_t tested = 0;
-        for (int y = std::max(pixels.y0, y0_); y < std::min(pixels.y1, y1_); ++y)
-            for (int x = pixels.x0; x < pixels.x1; ++x)
+        for (int y = std::max(pixels.y0, y0_); y < std::min(pixels.y1, y1_); ++y) {
+            int xBegin = pixels.x0, xEnd = pixels.x1;
+            if (hull != nullptr && !hullRow(*hull, y, xBegin, xEnd)) continue;
+            for (int x = xBegin; x < xEnd; ++x)
                 for (int s = s0; s < s1; ++s) {
                     const std::size_t i = samples_.index(y - y0_, x, s);
                     ++tested;
@@ -244,12 +247,14 @@ class BandRasterizer {
                     if (cover(i, samples_.lambdaMin(i) * perLambda, depthMax, hit))
                         recordDepth(mesh, tri, i, hit.depth, hit.b1, hit.b2, work);
                 }
+        }
         work.samplesTested += tested;
         return tested;
     }
 
     // A defocus-only frame: every method's bound is the triangle's pixels across the lens (the
-    // interleaved method's, those seen from its pass's lens point), and its samples are tested
+    // interleaved method's, those seen from its pass's lens point; triangle-bbox's, with its hull
+    // or oriented-box bound, the rows' pixels that bound reaches), and its samples are tested
     // with the lens edge functions (lens_triangle.h), as the patch method and the reference test
     // them. False when the triangle has no lens form: it then takes the method's rays.
     bool lensTriangle(const MovingMesh& mesh, std::uint32_t tri, BoundingWork& work) {
@@ -259,8 +264,11 @@ class BandRasterizer {
         if (t.kind == LensTriangle::Kind::NeedsRay) return false;
         if (o_.method != Bounding::Interleaved) {
             ++work.lensTriangleSetups;
-            if (t.kind == LensTriangle::Kind::Covers)
-                lensSamples(mesh, tri, t, t.pixels, 0, spp_, work);
+            if (t.kind != LensTriangle::Kind::Covers) return true;
+            ScreenHull hull;
+            const bool useHull = o_.method == Bounding::TriangleBBox &&
+                                 o_.bound != TriangleBound::Box && hullAcrossLens(t, hull);
+            lensSamples(mesh, tri, t, t.pixels, 0, spp_, work, useHull ? &hull : nullptr);
             return true;
         }
         for (int pass = 0; pass < spp_; ++pass) {
@@ -272,16 +280,28 @@ class BandRasterizer {
         return true;
     }
 
-    // Samples [s0, s1) of `pixels` in this band.
+    // The hull (or least-area rectangle) of the lens triangle's vertices' circles of confusion,
+    // which holds its image from every lens point; false when it cannot be built.
+    bool hullAcrossLens(const LensTriangle& t, ScreenHull& hull) const {
+        for (int k = 0; k < 3; ++k)
+            hull.addBlurredPoint(double(t.x[k]), double(t.y[k]),
+                                 double(c_.lens.radius) * std::abs(double(t.blur[k])));
+        const double margin = double(kScreenBoundsMarginPixels) * screenUnitsPerPixel(c_.camera);
+        return o_.bound == TriangleBound::OrientedBox ? hull.buildOrientedBox(margin)
+                                                      : hull.build(margin);
+    }
+
+    // Samples [s0, s1) of `pixels` in this band (of each row's pixels `hull` reaches, if given).
     void lensSamples(const MovingMesh& mesh, std::uint32_t tri, const LensTriangle& t,
-                     const LensPixels& pixels, int s0, int s1, BoundingWork& work) {
+                     const LensPixels& pixels, int s0, int s1, BoundingWork& work,
+                     const ScreenHull* hull = nullptr) {
         const auto cover = [&](std::size_t i, float nearPlane, float depthMax, ScreenHit& hit) {
             const Vec2 screen = samples_.screen(i), lensPoint = samples_.lensPoint(i);
             return coverLensSample(t, screen.x, screen.y, lensPoint.x, lensPoint.y, nearPlane,
                                    depthMax, hit);
         };
         work.lensEdgeTests += edgeSamples(mesh, tri, {pixels.x0, pixels.y0, pixels.x1, pixels.y1},
-                                          s0, s1, cover, work);
+                                          s0, s1, cover, work, hull);
     }
 
     // Every vertex nearer than the near plane (depth < near) at t=0 and at t=1. Each vertex moves
