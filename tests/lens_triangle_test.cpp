@@ -165,7 +165,7 @@ TEST(LensTriangle, BothFacesCountAsTheLensCrossesTheTrianglesPlane) {
     const LensTriangle t = setupLensTriangle(camera, lens, a, b, c);
     ASSERT_EQ(t.kind, LensTriangle::Kind::Covers);
     const Vec3 target = (a + b + c) / 3.0f;
-    int seen[2] = {0, 0};  // from lens points on either side of the plane
+    int facing[2] = {0, 0};  // from lens points on either side of the plane: +1 or -1
     for (const float lx : {-0.9f, 0.9f}) {
         // Aim the sample at the triangle's centroid from this lens point: the focus-plane point
         // on the line from (lx, 0, 0) through the centroid, scaled to z = -1.
@@ -174,11 +174,18 @@ TEST(LensTriangle, BothFacesCountAsTheLensCrossesTheTrianglesPlane) {
         const Vec2 screen(focus.x / lens.focusDistance, focus.y / lens.focusDistance);
         ScreenHit hit;
         ASSERT_TRUE(covers(t, screen, {lx, 0.0f}, hit)) << "lens x " << lx;
+        // The triangle's orientation as this lens point sees it: the sign of its image's area,
+        // the sum of its oriented edge functions at any point.
+        float area = 0.0f;
+        for (int i = 0; i < 3; ++i) {
+            const float e = lensEdgeFunction(t, i, screen.x, screen.y, lx, 0.0f);
+            area += t.flipped[i] ? -e : e;
+        }
+        facing[lx > 0] = area > 0.0f ? 1 : -1;
         EXPECT_NEAR(hit.depth, -target.z, 1e-3f);
         EXPECT_NEAR(hit.b1, 1.0f / 3.0f, 1e-3f);
-        ++seen[lx > 0];
     }
-    EXPECT_EQ(seen[0] + seen[1], 2);
+    EXPECT_EQ(facing[0] * facing[1], -1) << "the two lens points see opposite faces";
 }
 
 TEST(LensTriangle, TrianglesWithNoLensFormTakeRays) {

@@ -46,7 +46,8 @@ Comparison compare(const RenderResult& a, const RenderResult& b) {
         ++c.samples;
         c.hits += x.hit();
         if (!x.hit() && y.hit()) ++c.falseRejects;
-        if (x.patch != y.patch || (x.hit() && (x.triangle != y.triangle || x.depth != y.depth)))
+        if (x.patch != y.patch || (x.hit() && (x.triangle != y.triangle || x.depth != y.depth ||
+                                               x.b1 != y.b1 || x.b2 != y.b2)))
             ++c.mismatches;
         else if (layerList(a.transparent.get(), i) != layerList(b.transparent.get(), i))
             ++c.mismatches;

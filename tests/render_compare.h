@@ -11,8 +11,8 @@ namespace patchsim::test {
 
 struct Comparison {
     std::size_t samples = 0, hits = 0;
-    std::size_t mismatches =
-        0;  // different nearest opaque hit (patch, triangle or depth bits) or layers
+    // Different nearest opaque hit (patch, triangle, depth or barycentric bits) or layers.
+    std::size_t mismatches = 0;
     std::size_t falseRejects = 0;  // the second render hits where the first does not
 };
 

@@ -552,8 +552,8 @@ std::vector<BoundingWork> rasterizeByBounds(const std::vector<MovingMesh>& meshe
                 if (trace) trace->endPass();
             }
             if (band != 0)  // counted once
-                work.triangleSetups = work.screenTriangleSetups = work.fullScreenBounds =
-                    work.trianglesCulled = 0;
+                work.triangleSetups = work.screenTriangleSetups = work.lensTriangleSetups =
+                    work.fullScreenBounds = work.trianglesCulled = 0;
         }
     });
     std::vector<BoundingWork> perMesh(meshes.size());

@@ -31,9 +31,13 @@
 // seen from behind from some lens points is inside where every oriented F_i is negative, so the
 // test is "all positive or all negative". A sample exactly on an edge (E = 0) belongs to the
 // triangle on the canonical edge's positive side: the two triangles on either side of an edge
-// see opposite sides, so it belongs to exactly one. Every operation is a separate IEEE float
-// operation (the build sets -ffp-contract=off), so the scalar test here and the vector kernels in
-// the rasterizers agree bit for bit, and the reference equals every method sample for sample.
+// see opposite sides, so it belongs to exactly one. At a vertex the order acts as one tie
+// direction only from the lens centre: a sample exactly on a vertex's image from another lens
+// point (the vertex exactly in focus, two edge functions exactly zero) may belong to none.
+//
+// Every operation is a separate IEEE float operation (the build sets -ffp-contract=off), so the
+// scalar test here and the vector kernels in the rasterizers agree bit for bit, and the reference
+// equals every method sample for sample.
 //
 // A vertex at or behind the lens plane (w <= 0), or a triangle whose image reaches beyond the
 // guard band from some lens point, has no such form: it is tested with rays (`NeedsRay`), as a
