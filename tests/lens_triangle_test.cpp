@@ -52,7 +52,7 @@ TEST(LensTriangle, AgreesWithTheRayTestAwayFromEdges) {
             TriangleHit rayHit;
             const bool rayCovers =
                 intersectTriangle(shearRay(ray), v[0], v[1], v[2], 0.0f, 1e9f, rayHit);
-            ScreenHit hit;
+            ScreenHit hit{};
             const bool lensCovers = covers(t, screen, {ray.origin.x, ray.origin.y}, hit);
             if (lensCovers) {
                 EXPECT_TRUE(raster.x >= float(t.pixels.x0) && raster.x < float(t.pixels.x1) &&
@@ -126,7 +126,7 @@ TEST(LensTriangle, EverySampleInsideAMeshIsCoveredExactlyOnce) {
     for (const LensTriangle& t : triangles) ASSERT_EQ(t.kind, LensTriangle::Kind::Covers);
     const auto coverCount = [&](Vec2 screen, Vec2 lensPoint) {
         int count = 0;
-        ScreenHit hit;
+        ScreenHit hit{};
         for (const LensTriangle& t : triangles) count += covers(t, screen, lensPoint, hit);
         return count;
     };
@@ -154,6 +154,32 @@ TEST(LensTriangle, EverySampleInsideAMeshIsCoveredExactlyOnce) {
     EXPECT_GT(reversedCount, 10) << "both windings, so the canonical edge order is exercised";
 }
 
+// A sample exactly on a vertex's image seen from a lens point off the centre: the vertex is in
+// focus (its image does not move with the lens point), and the fan of three triangles around it
+// does not fold from that lens point. Its two edge functions at the vertex are exactly zero in
+// each triangle; the tie rule (the sample moved by (eps, eps^2)) gives it to exactly one. (A
+// review found this case; the rule before it, the canonical edge's positive side, gave it to
+// none.)
+TEST(LensTriangle, ASampleOnAVertexImageOffTheLensCentreIsCoveredOnce) {
+    const Camera camera = testCamera();
+    const LensModel lens{1.0f, 1.0f};
+    const Vec3 v(0.0f, 0.0f, -1.0f);
+    const Vec3 w[3] = {
+        {0x1.ap-5f, 0x1.3p-5f, -0.25f}, {0.0f, 0.5f, -2.0f}, {0x1.2p-3f, -0x1.78p-1f, -4.0f}};
+    const Vec2 lensPoint(-0.875f, -0.125f);
+    int count = 0, zeros = 0;
+    for (int k = 0; k < 3; ++k) {
+        const LensTriangle t = setupLensTriangle(camera, lens, v, w[k], w[(k + 1) % 3]);
+        ASSERT_EQ(t.kind, LensTriangle::Kind::Covers);
+        for (int i = 0; i < 3; ++i)
+            zeros += lensEdgeFunction(t, i, 0.0f, 0.0f, lensPoint.x, lensPoint.y).e == 0.0f;
+        ScreenHit hit{};
+        count += coverLensSample(t, 0.0f, 0.0f, lensPoint.x, lensPoint.y, 0.0f, kInfinity, hit);
+    }
+    EXPECT_EQ(zeros, 6) << "two edges of each triangle exactly through the sample";
+    EXPECT_EQ(count, 1);
+}
+
 // A triangle seen from its back from some lens points is still covered there (both faces count,
 // as in the ray test): a triangle whose plane passes between the lens's two sides.
 TEST(LensTriangle, BothFacesCountAsTheLensCrossesTheTrianglesPlane) {
@@ -172,13 +198,13 @@ TEST(LensTriangle, BothFacesCountAsTheLensCrossesTheTrianglesPlane) {
         const Vec3 from(lx, 0.0f, 0.0f);
         const Vec3 focus = from + (target - from) * (lens.focusDistance / -target.z);
         const Vec2 screen(focus.x / lens.focusDistance, focus.y / lens.focusDistance);
-        ScreenHit hit;
+        ScreenHit hit{};
         ASSERT_TRUE(covers(t, screen, {lx, 0.0f}, hit)) << "lens x " << lx;
         // The triangle's orientation as this lens point sees it: the sign of its image's area,
         // the sum of its oriented edge functions at any point.
         float area = 0.0f;
         for (int i = 0; i < 3; ++i) {
-            const float e = lensEdgeFunction(t, i, screen.x, screen.y, lx, 0.0f);
+            const float e = lensEdgeFunction(t, i, screen.x, screen.y, lx, 0.0f).e;
             area += t.flipped[i] ? -e : e;
         }
         facing[lx > 0] = area > 0.0f ? 1 : -1;

@@ -29,11 +29,13 @@
 // the same order in both: the order is canonical (the vertices' (x, y, c) compared), and a
 // triangle that meets the edge the other way negates it (`flipped`), which is exact. A triangle
 // seen from behind from some lens points is inside where every oriented F_i is negative, so the
-// test is "all positive or all negative". A sample exactly on an edge (E = 0) belongs to the
-// triangle on the canonical edge's positive side: the two triangles on either side of an edge
-// see opposite sides, so it belongs to exactly one. At a vertex the order acts as one tie
-// direction only from the lens centre: a sample exactly on a vertex's image from another lens
-// point (the vertex exactly in focus, two edge functions exactly zero) may belong to none.
+// test is "all positive or all negative". A sample exactly on an edge (E = 0) is decided as if it
+// were moved by (eps, eps^2) on the screen, D3D11's top-left rule in another form: E's sign is
+// then that of dE/dx (the factor of R.x above), or if that is zero of dE/dy (R.y's). Both
+// triangles on an edge compute the same canonical E and derivatives and read them with opposite
+// signs, so a sample on a shared edge belongs to exactly one; and as the moved point lies on no
+// edge, a sample exactly on a vertex's image belongs to exactly one triangle of a fan that does
+// not fold over itself, from any lens point.
 //
 // Every operation is a separate IEEE float operation (the build sets -ffp-contract=off), so the
 // scalar test here and the vector kernels in the rasterizers agree bit for bit, and the reference
@@ -94,15 +96,24 @@ inline LensTriangle setupLensTriangle(const Camera& camera, const LensModel& len
 LensPixels lensPixelsFrom(const Camera& camera, const LensTriangle& t, float lensX, float lensY);
 
 // Edge i's canonical function at screen point (sx, sy) from lens point (lx, ly) (the ray's
-// origin): the operations the vector kernels repeat lane by lane, in this order.
-inline float lensEdgeFunction(const LensTriangle& t, int i, float sx, float sy, float lx,
-                              float ly) {
+// origin), and its derivatives along the screen's x and y there.
+struct LensEdgeValue {
+    float e, dx, dy;
+    // The sign of e at the sample moved by (eps, eps^2): the tie rule.
+    bool positive() const {
+        return e > 0.0f || (e == 0.0f && (dx > 0.0f || (dx == 0.0f && dy > 0.0f)));
+    }
+};
+
+// The operations the vector kernels repeat lane by lane, in this order.
+inline LensEdgeValue lensEdgeFunction(const LensTriangle& t, int i, float sx, float sy, float lx,
+                                      float ly) {
     const int a = t.from[i];
     const float rx = sx - t.x[a], ry = sy - t.y[a];
     const float ex = -(t.dy[i] + t.dblur[i] * ly);
     const float ey = t.dx[i] + t.dblur[i] * lx;
     const float offset = t.blur[a] * (lx * t.dy[i] - ly * t.dx[i]);
-    return (rx * ex + ry * ey) + offset;
+    return {(rx * ex + ry * ey) + offset, ex, ey};
 }
 
 // The hit at a covered sample from its three oriented edge functions.
@@ -118,11 +129,11 @@ inline ScreenHit interpolateLensHit(const LensTriangle& t, float f0, float f1, f
 inline bool coverLensSample(const LensTriangle& t, float sx, float sy, float lx, float ly,
                             float nearPlane, float depthMax, ScreenHit& hit) {
     float f[3];
-    int positive = 0;  // edges whose canonical side, oriented, says inside-if-counterclockwise
+    int positive = 0;  // oriented edges positive at the moved sample
     for (int i = 0; i < 3; ++i) {
-        const float e = lensEdgeFunction(t, i, sx, sy, lx, ly);
-        positive += (e >= 0.0f) != t.flipped[i];
-        f[i] = t.flipped[i] ? -e : e;
+        const LensEdgeValue edge = lensEdgeFunction(t, i, sx, sy, lx, ly);
+        positive += edge.positive() != t.flipped[i];
+        f[i] = t.flipped[i] ? -edge.e : edge.e;
     }
     if (positive != 0 && positive != 3) return false;
     const ScreenHit h = interpolateLensHit(t, f[0], f[1], f[2]);

@@ -244,15 +244,18 @@ class ScreenPass {
             }
         }
         // lensEdgeFunction's operations, in its order: edge i oriented (negated when flipped),
-        // and whether its canonical side says inside for a counter-clockwise triangle.
+        // and whether it is positive at the moved sample, oriented.
         VF oriented(DF d, int i, VF sx, VF sy, VF lx, VF ly, MF& positive) const {
             const VF rx = hn::Sub(sx, x[i]), ry = hn::Sub(sy, y[i]);
             const VF ex = hn::Neg(hn::Add(dy[i], hn::Mul(dblur[i], ly)));
             const VF ey = hn::Add(dx[i], hn::Mul(dblur[i], lx));
             const VF offset = hn::Mul(blur[i], hn::Sub(hn::Mul(lx, dy[i]), hn::Mul(ly, dx[i])));
             const VF e = hn::Add(hn::Add(hn::Mul(rx, ex), hn::Mul(ry, ey)), offset);
-            const MF nonNegative = hn::Ge(e, hn::Zero(d));
-            positive = flipped[i] ? hn::Not(nonNegative) : nonNegative;
+            // LensEdgeValue::positive: the sign at the sample moved by (eps, eps^2).
+            const VF zero = hn::Zero(d);
+            const MF tieUp = hn::Or(hn::Gt(ex, zero), hn::And(hn::Eq(ex, zero), hn::Gt(ey, zero)));
+            const MF up = hn::Or(hn::Gt(e, zero), hn::And(hn::Eq(e, zero), tieUp));
+            positive = flipped[i] ? hn::Not(up) : up;
             return flipped[i] ? hn::Neg(e) : e;
         }
     };
