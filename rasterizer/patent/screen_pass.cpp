@@ -251,10 +251,14 @@ class ScreenPass {
             const VF ey = hn::Add(dx[i], hn::Mul(dblur[i], lx));
             const VF offset = hn::Mul(blur[i], hn::Sub(hn::Mul(lx, dy[i]), hn::Mul(ly, dx[i])));
             const VF e = hn::Add(hn::Add(hn::Mul(rx, ex), hn::Mul(ry, ey)), offset);
-            // LensEdgeValue::positive: the sign at the sample moved by (eps, eps^2).
+            // LensEdgeValue::positive: the sign at the sample moved by (eps, eps^2); a lane
+            // exactly on the edge is rare, so its derivatives are read only then.
             const VF zero = hn::Zero(d);
-            const MF tieUp = hn::Or(hn::Gt(ex, zero), hn::And(hn::Eq(ex, zero), hn::Gt(ey, zero)));
-            const MF up = hn::Or(hn::Gt(e, zero), hn::And(hn::Eq(e, zero), tieUp));
+            MF up = hn::Gt(e, zero);
+            const MF tie = hn::Eq(e, zero);
+            if (!hn::AllFalse(d, tie))
+                up = hn::Or(up, hn::And(tie, hn::Or(hn::Gt(ex, zero),
+                                                    hn::And(hn::Eq(ex, zero), hn::Gt(ey, zero)))));
             positive = flipped[i] ? hn::Not(up) : up;
             return flipped[i] ? hn::Neg(e) : e;
         }
