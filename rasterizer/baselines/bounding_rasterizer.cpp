@@ -286,6 +286,12 @@ class BandRasterizer {
         for (int k = 0; k < 3; ++k)
             hull.addBlurredPoint(double(t.x[k]), double(t.y[k]),
                                  double(c_.lens.radius) * std::abs(double(t.blur[k])));
+        return buildBound(hull);
+    }
+
+    // The hull of the points added, or with the oriented-box bound the least-area rectangle
+    // holding it, grown by the screen bounds' margin; false when it cannot be built.
+    bool buildBound(ScreenHull& hull) const {
         const double margin = double(kScreenBoundsMarginPixels) * screenUnitsPerPixel(c_.camera);
         return o_.bound == TriangleBound::OrientedBox ? hull.buildOrientedBox(margin)
                                                       : hull.build(margin);
@@ -360,9 +366,7 @@ class BandRasterizer {
                     double(p.x / depth), double(p.y / depth),
                     double(c_.lens.radius * std::abs(1.0f / depth - inverseFocus)));
             }
-        const double margin = double(kScreenBoundsMarginPixels) * screenUnitsPerPixel(c_.camera);
-        useHull = useHull && (o_.bound == TriangleBound::OrientedBox ? hull.buildOrientedBox(margin)
-                                                                     : hull.build(margin));
+        useHull = useHull && buildBound(hull);
         testRect(mesh, tri, rect, 0, spp, -1, work, useHull ? &hull : nullptr);
     }
 

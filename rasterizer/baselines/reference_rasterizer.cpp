@@ -38,28 +38,15 @@ bool hitTriangle(const MovingMesh& mesh, std::uint32_t tri, const ShearedRay& sh
     return true;
 }
 
-// The triangles of every mesh in screen form (static frames), in mesh order.
-std::vector<ScreenTriangle> screenTriangles(const std::vector<MovingMesh>& meshes,
-                                            const Camera& camera) {
-    std::vector<ScreenTriangle> out;
+// `setup` of every mesh's triangles at their t=0 positions, in mesh order: their screen form
+// (static frames) or lens form (defocus-only frames).
+template <class Setup>
+auto setUpEveryTriangle(const std::vector<MovingMesh>& meshes, const Setup& setup) {
+    std::vector<decltype(setup(Vec3(), Vec3(), Vec3()))> out;
     for (const MovingMesh& mesh : meshes)
         for (std::uint32_t tri = 0; tri < mesh.triangleCount(); ++tri) {
             const std::uint32_t* v = &mesh.indices[3 * std::size_t(tri)];
-            out.push_back(setupScreenTriangle(camera, mesh.position0[v[0]], mesh.position0[v[1]],
-                                              mesh.position0[v[2]]));
-        }
-    return out;
-}
-
-// The triangles of every mesh seen through the lens (defocus-only frames), in mesh order.
-std::vector<LensTriangle> lensTriangles(const std::vector<MovingMesh>& meshes, const Camera& camera,
-                                        const LensModel& lens) {
-    std::vector<LensTriangle> out;
-    for (const MovingMesh& mesh : meshes)
-        for (std::uint32_t tri = 0; tri < mesh.triangleCount(); ++tri) {
-            const std::uint32_t* v = &mesh.indices[3 * std::size_t(tri)];
-            out.push_back(setupLensTriangle(camera, lens, mesh.position0[v[0]],
-                                            mesh.position0[v[1]], mesh.position0[v[2]]));
+            out.push_back(setup(mesh.position0[v[0]], mesh.position0[v[1]], mesh.position0[v[2]]));
         }
     return out;
 }
@@ -119,11 +106,17 @@ void renderReferenceRows(const std::vector<MovingMesh>& meshes, const Camera& ca
     RasterWork layerWork;
     VisibilityBuffer& buffer = *targets.opaque;
     // One set-up per triangle for the band (a reference, outside the memory budget).
+    const auto screenForm = [&](const Vec3& a, const Vec3& b, const Vec3& c) {
+        return setupScreenTriangle(camera, a, b, c);
+    };
+    const auto lensSetup = [&](const Vec3& a, const Vec3& b, const Vec3& c) {
+        return setupLensTriangle(camera, lens, a, b, c);
+    };
     const std::vector<ScreenTriangle> screen = !motion && !(lens.radius > 0)
-                                                   ? screenTriangles(meshes, camera)
+                                                   ? setUpEveryTriangle(meshes, screenForm)
                                                    : std::vector<ScreenTriangle>();
     const std::vector<LensTriangle> lensForm = !motion && lens.radius > 0
-                                                   ? lensTriangles(meshes, camera, lens)
+                                                   ? setUpEveryTriangle(meshes, lensSetup)
                                                    : std::vector<LensTriangle>();
     for (int y = y0; y < y1; ++y) {
         for (int x = 0; x < buffer.width(); ++x) {
